@@ -1,0 +1,16 @@
+//! scm: robot self-collision matrices. The library holds every stage (`preprocess`, ...) so the CLI,
+//! the viewer, tests and benchmarks all call the same code.
+
+pub mod error;
+pub mod math;
+pub mod mesh;
+pub mod preprocess;
+pub mod progress;
+pub mod robot;
+pub mod shapes;
+pub mod urdd;
+
+pub use error::{Error, Result};
+
+/// The scm version, recorded in every URDD.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -1,0 +1,68 @@
+//! Assembles each link's triangle geometry in the link frame from its URDF elements, loading every mesh
+//! file once and rejecting empty or degenerate meshes with a message naming the URDF element.
+
+use crate::error::{Error, Result};
+use crate::mesh::{TriMesh, load_mesh_file, tessellate};
+use crate::robot::{Link, Robot, ShapeSource};
+use crate::shapes::convex_hull;
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Every mesh file the robot uses, loaded and checked, keyed by resolved path.
+pub type MeshCache = BTreeMap<PathBuf, TriMesh>;
+
+/// `<link name="x"> <collision> (line N)`, for messages.
+fn element_label(link: &Link, line: u32) -> String {
+    let tag = match link.geometry_source {
+        crate::robot::GeometryOrigin::Visual => "visual",
+        _ => "collision",
+    };
+    format!("<link name=\"{}\"> <{tag}> (line {line})", link.name)
+}
+
+/// Loads all mesh files of `robot` in parallel.
+pub fn load_meshes(robot: &Robot, urdf: &Path) -> Result<MeshCache> {
+    // First use of each file, for the error message.
+    let mut first_use: BTreeMap<PathBuf, (String, String)> = BTreeMap::new();
+    for link in &robot.links {
+        for g in &link.geometry {
+            if let ShapeSource::Mesh { uri, path, .. } = &g.shape {
+                first_use
+                    .entry(path.clone())
+                    .or_insert_with(|| (element_label(link, g.line), uri.clone()));
+            }
+        }
+    }
+    first_use
+        .into_par_iter()
+        .map(|(path, (element, uri))| {
+            let fail =
+                |msg: String| Error::input(urdf, element.clone(), format!("mesh \"{uri}\": {msg}"));
+            let mesh = load_mesh_file(&path).map_err(fail)?;
+            // Rejects single-point, collinear and flat meshes: they enclose nothing.
+            convex_hull(&mesh.vertices).map_err(|e| fail(format!("degenerate mesh: {e}")))?;
+            Ok((path, mesh))
+        })
+        .collect()
+}
+
+/// The link's geometry as one triangle soup in the link frame (empty for links without geometry).
+pub fn link_mesh(link: &Link, meshes: &MeshCache) -> TriMesh {
+    let mut out = TriMesh::default();
+    for g in &link.geometry {
+        match &g.shape {
+            ShapeSource::Mesh { path, scale, .. } => {
+                if let Some(m) = meshes.get(path) {
+                    out.append_transformed(m, &g.origin, *scale);
+                }
+            }
+            primitive => {
+                if let Some(m) = tessellate(primitive) {
+                    out.append_transformed(&m, &g.origin, crate::math::Vec3::ONE);
+                }
+            }
+        }
+    }
+    out
+}

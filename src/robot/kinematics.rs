@@ -1,0 +1,167 @@
+//! Forward kinematics: link poses in the root frame for a joint configuration.
+
+use super::{JointKind, Robot};
+use crate::math::{Pose, Rotation, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// One value per degree of freedom, in [`Kinematics::dofs`] order.
+pub type Configuration = Vec<f64>;
+
+/// A sampled degree of freedom: an actuated joint that is not a mimic.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Dof {
+    /// Joint index in the robot.
+    pub joint: usize,
+    /// Joint name.
+    pub name: String,
+    /// Lower bound (continuous joints: -pi).
+    pub lower: f64,
+    /// Upper bound (continuous joints: +pi).
+    pub upper: f64,
+}
+
+impl Dof {
+    /// The home value: 0, or the middle of the limits where 0 is outside them.
+    pub fn home(&self) -> f64 {
+        if (self.lower..=self.upper).contains(&0.0) {
+            0.0
+        } else {
+            0.5 * (self.lower + self.upper)
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+struct Step {
+    kind: JointKind,
+    parent: usize,
+    child: usize,
+    origin: Pose,
+    axis: Vec3,
+    /// How the joint's value is obtained.
+    value: Value,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Value {
+    Fixed,
+    Dof(usize),
+    Mimic {
+        dof: Option<usize>,
+        multiplier: f64,
+        offset: f64,
+    },
+}
+
+/// Precomputed forward kinematics of a robot: joints in parent-before-child order and the DOF mapping.
+#[derive(Debug, Clone)]
+pub struct Kinematics {
+    steps: Vec<Step>,
+    dofs: Vec<Dof>,
+    root: usize,
+    link_count: usize,
+}
+
+impl Kinematics {
+    /// Prepares forward kinematics for `robot` (which [`super::load_urdf`] has validated to be a tree).
+    pub fn new(robot: &Robot) -> Self {
+        let mut dof_of_joint = vec![None; robot.joints.len()];
+        let mut dofs = Vec::new();
+        for (i, j) in robot.joints.iter().enumerate() {
+            if j.kind.is_actuated() && j.mimic.is_none() {
+                let (lower, upper) = match (j.kind, j.limits) {
+                    (JointKind::Continuous, _) | (_, None) => {
+                        (-std::f64::consts::PI, std::f64::consts::PI)
+                    }
+                    (_, Some(l)) => (l.lower, l.upper),
+                };
+                dof_of_joint[i] = Some(dofs.len());
+                dofs.push(Dof {
+                    joint: i,
+                    name: j.name.clone(),
+                    lower,
+                    upper,
+                });
+            }
+        }
+        // Breadth-first from the root so every parent pose is known before its children.
+        let mut steps = Vec::with_capacity(robot.joints.len());
+        let mut frontier = vec![robot.root];
+        while let Some(link) = frontier.pop() {
+            for (i, j) in robot
+                .joints
+                .iter()
+                .enumerate()
+                .filter(|(_, j)| j.parent == link)
+            {
+                let value = match (j.kind.is_actuated(), j.mimic) {
+                    (false, _) => Value::Fixed,
+                    (true, None) => Value::Dof(dof_of_joint[i].unwrap_or_default()),
+                    (true, Some(m)) => Value::Mimic {
+                        dof: dof_of_joint[m.joint],
+                        multiplier: m.multiplier,
+                        offset: m.offset,
+                    },
+                };
+                steps.push(Step {
+                    kind: j.kind,
+                    parent: j.parent,
+                    child: j.child,
+                    origin: j.origin,
+                    axis: j.axis,
+                    value,
+                });
+                frontier.push(j.child);
+            }
+        }
+        Kinematics {
+            steps,
+            dofs,
+            root: robot.root,
+            link_count: robot.links.len(),
+        }
+    }
+
+    /// The sampled degrees of freedom.
+    pub fn dofs(&self) -> &[Dof] {
+        &self.dofs
+    }
+
+    /// The home configuration.
+    pub fn home(&self) -> Configuration {
+        self.dofs.iter().map(Dof::home).collect()
+    }
+
+    /// Pose of every link in the root frame at configuration `q`, written into `poses` (indexed by link).
+    pub fn link_poses_into(&self, q: &[f64], poses: &mut Vec<Pose>) {
+        poses.clear();
+        poses.resize(self.link_count, Pose::IDENTITY);
+        poses[self.root] = Pose::IDENTITY;
+        for s in &self.steps {
+            let value = match s.value {
+                Value::Fixed => 0.0,
+                Value::Dof(d) => q[d],
+                Value::Mimic {
+                    dof,
+                    multiplier,
+                    offset,
+                } => dof.map_or(0.0, |d| q[d]) * multiplier + offset,
+            };
+            let motion = match s.kind {
+                JointKind::Revolute | JointKind::Continuous => {
+                    Pose::from_rotation(Rotation::from_axis_angle(s.axis, value))
+                }
+                JointKind::Prismatic => Pose::from_translation(s.axis * value),
+                JointKind::Fixed | JointKind::Floating | JointKind::Planar => Pose::IDENTITY,
+            };
+            poses[s.child] = poses[s.parent] * s.origin * motion;
+        }
+    }
+
+    /// Pose of every link in the root frame at configuration `q`.
+    pub fn link_poses(&self, q: &[f64]) -> Vec<Pose> {
+        let mut poses = Vec::new();
+        self.link_poses_into(q, &mut poses);
+        poses
+    }
+}

@@ -1,0 +1,534 @@
+//! A lenient URDF reader on roxmltree, as forgiving as ROS's own parser and precise in its error messages.
+//!
+//! Only direct `<robot>` children count as links and joints, so `<joint>` inside `<transmission>` or
+//! `<gazebo>` is ignored. `<limit>` needs no `velocity`/`effort`, `<axis>` without `xyz` means 1 0 0, and
+//! `<material>` elements are ignored wherever they are.
+
+use super::packages::PackagePaths;
+use super::{
+    GeometryElement, GeometryOrigin, Joint, JointKind, Limits, Link, Mimic, Robot, ShapeSource,
+};
+use crate::error::{Error, Result};
+use crate::math::{Pose, Rotation, Vec3};
+use roxmltree::{Document, Node};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Reads and validates the URDF at `path`, resolving mesh filenames with `packages`.
+pub fn load_urdf(path: &Path, packages: &PackagePaths) -> Result<Robot> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::input(path, "file", format!("cannot read: {e}")))?;
+    parse_urdf(&text, path, packages)
+}
+
+/// Parses URDF `text` read from `path` (used for error messages and relative mesh paths).
+pub fn parse_urdf(text: &str, path: &Path, packages: &PackagePaths) -> Result<Robot> {
+    let doc = Document::parse(text).map_err(|e| {
+        let pos = e.pos();
+        Error::input(
+            path,
+            format!("line {}, column {}", pos.row, pos.col),
+            format!("malformed XML: {e}"),
+        )
+    })?;
+    let reader = Reader { doc: &doc, path };
+    reader.robot(packages)
+}
+
+struct Reader<'a, 'input> {
+    doc: &'a Document<'input>,
+    path: &'a Path,
+}
+
+impl<'a, 'input> Reader<'a, 'input> {
+    fn line(&self, node: Node) -> u32 {
+        self.doc.text_pos_at(node.range().start).row
+    }
+
+    /// `<tag name="...">` (line N)
+    fn describe(&self, node: Node) -> String {
+        match node.attribute("name") {
+            Some(name) => format!(
+                "<{} name=\"{}\"> (line {})",
+                node.tag_name().name(),
+                name,
+                self.line(node)
+            ),
+            None => format!("<{}> (line {})", node.tag_name().name(), self.line(node)),
+        }
+    }
+
+    fn err(&self, node: Node, message: impl Into<String>) -> Error {
+        Error::input(self.path, self.describe(node), message)
+    }
+
+    fn child<'n>(&self, node: Node<'n, 'input>, tag: &str) -> Option<Node<'n, 'input>> {
+        node.children()
+            .find(|c| c.is_element() && c.tag_name().name() == tag)
+    }
+
+    fn children<'n>(
+        &self,
+        node: Node<'n, 'input>,
+        tag: &'static str,
+    ) -> impl Iterator<Item = Node<'n, 'input>> {
+        node.children()
+            .filter(move |c| c.is_element() && c.tag_name().name() == tag)
+    }
+
+    fn required<'n>(&self, node: Node<'n, 'input>, attr: &str) -> Result<&'n str> {
+        node.attribute(attr)
+            .ok_or_else(|| self.err(node, format!("missing attribute `{attr}`")))
+    }
+
+    fn number(&self, node: Node, attr: &str, text: &str) -> Result<f64> {
+        let v: f64 = text.trim().parse().map_err(|_| {
+            self.err(
+                node,
+                format!("attribute `{attr}`: `{text}` is not a number"),
+            )
+        })?;
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.err(node, format!("attribute `{attr}`: `{text}` is not finite")))
+        }
+    }
+
+    fn optional_number(&self, node: Node, attr: &str, default: f64) -> Result<f64> {
+        match node.attribute(attr) {
+            Some(text) => self.number(node, attr, text),
+            None => Ok(default),
+        }
+    }
+
+    fn required_number(&self, node: Node, attr: &str) -> Result<f64> {
+        let text = self.required(node, attr)?;
+        self.number(node, attr, text)
+    }
+
+    fn vec3(&self, node: Node, attr: &str, default: Vec3) -> Result<Vec3> {
+        let Some(text) = node.attribute(attr) else {
+            return Ok(default);
+        };
+        let parts: Vec<&str> = text.split_whitespace().collect();
+        if parts.len() != 3 {
+            return Err(self.err(
+                node,
+                format!("attribute `{attr}`: expected 3 numbers, got `{text}`"),
+            ));
+        }
+        Ok(Vec3::new(
+            self.number(node, attr, parts[0])?,
+            self.number(node, attr, parts[1])?,
+            self.number(node, attr, parts[2])?,
+        ))
+    }
+
+    /// `<origin xyz rpy>` child of `node`, identity when absent.
+    fn origin(&self, node: Node) -> Result<Pose> {
+        let Some(o) = self.child(node, "origin") else {
+            return Ok(Pose::IDENTITY);
+        };
+        let xyz = self.vec3(o, "xyz", Vec3::ZERO)?;
+        let rpy = self.vec3(o, "rpy", Vec3::ZERO)?;
+        Ok(Pose::from_parts(xyz, rpy_to_rotation(rpy)))
+    }
+
+    fn robot(&self, packages: &PackagePaths) -> Result<Robot> {
+        let root = self.doc.root_element();
+        if root.tag_name().name() != "robot" {
+            return Err(self.err(root, "the root element must be <robot>"));
+        }
+        let name = root.attribute("name").unwrap_or("robot").to_string();
+        let mut warnings = Vec::new();
+
+        let mut links: Vec<Link> = Vec::new();
+        let mut link_index: HashMap<&str, usize> = HashMap::new();
+        for node in self.children(root, "link") {
+            let link_name = self.required(node, "name")?;
+            if link_index.insert(link_name, links.len()).is_some() {
+                return Err(self.err(node, "duplicate link name"));
+            }
+            links.push(self.link(node, packages, &mut warnings)?);
+        }
+        if links.is_empty() {
+            return Err(self.err(root, "the robot has no <link>"));
+        }
+
+        let joint_nodes: Vec<Node> = self.children(root, "joint").collect();
+        let mut joint_index: HashMap<&str, usize> = HashMap::new();
+        for (i, node) in joint_nodes.iter().enumerate() {
+            let joint_name = self.required(*node, "name")?;
+            if joint_index.insert(joint_name, i).is_some() {
+                return Err(self.err(*node, "duplicate joint name"));
+            }
+        }
+        let mut joints = Vec::with_capacity(joint_nodes.len());
+        for node in &joint_nodes {
+            joints.push(self.joint(*node, &link_index, &joint_index)?);
+        }
+        for (i, joint) in joints.iter().enumerate() {
+            let child = &mut links[joint.child];
+            if let Some(other) = child.parent_joint {
+                return Err(self.err(
+                    joint_nodes[i],
+                    format!(
+                        "link \"{}\" is already the child of joint \"{}\" (a link has one parent; \
+                         this closes a cycle)",
+                        child.name, joints[other].name
+                    ),
+                ));
+            }
+            child.parent_joint = Some(i);
+        }
+        let roots: Vec<usize> = (0..links.len())
+            .filter(|&i| links[i].parent_joint.is_none())
+            .collect();
+        let root_link = match roots.as_slice() {
+            [r] => *r,
+            [] => {
+                return Err(self.err(
+                    root,
+                    "every link is a joint's child: the joints form a cycle",
+                ));
+            }
+            many => {
+                let names: Vec<&str> = many.iter().map(|&i| links[i].name.as_str()).collect();
+                return Err(self.err(
+                    root,
+                    format!(
+                        "several root links (links that are no joint's child): {}",
+                        names.join(", ")
+                    ),
+                ));
+            }
+        };
+        // Every link must hang from the root: walking up from any link has to end there without a loop.
+        for start in 0..links.len() {
+            let mut at = start;
+            let mut steps = 0;
+            while let Some(j) = links[at].parent_joint {
+                at = joints[j].parent;
+                steps += 1;
+                if steps > joints.len() {
+                    let node = joint_nodes[j];
+                    return Err(self.err(node, "the joints form a cycle"));
+                }
+            }
+        }
+        resolve_mimic_chains(&mut joints).map_err(|j| {
+            self.err(
+                joint_nodes[j],
+                "<mimic> joints follow each other in a cycle",
+            )
+        })?;
+
+        Ok(Robot {
+            name,
+            links,
+            joints,
+            root: root_link,
+            warnings,
+        })
+    }
+
+    fn link(
+        &self,
+        node: Node,
+        packages: &PackagePaths,
+        warnings: &mut Vec<String>,
+    ) -> Result<Link> {
+        let name = self.required(node, "name")?.to_string();
+        let collisions = self.geometry_elements(node, "collision", packages)?;
+        let (geometry, geometry_source) = if !collisions.is_empty() {
+            (collisions, GeometryOrigin::Collision)
+        } else {
+            let visuals = self.geometry_elements(node, "visual", packages)?;
+            if visuals.is_empty() {
+                (visuals, GeometryOrigin::None)
+            } else {
+                warnings.push(format!(
+                    "link \"{name}\" has no <collision>; its <visual> geometry is used instead"
+                ));
+                (visuals, GeometryOrigin::Visual)
+            }
+        };
+        Ok(Link {
+            name,
+            geometry,
+            geometry_source,
+            parent_joint: None,
+        })
+    }
+
+    fn geometry_elements(
+        &self,
+        link: Node,
+        tag: &'static str,
+        packages: &PackagePaths,
+    ) -> Result<Vec<GeometryElement>> {
+        let mut out = Vec::new();
+        for element in self.children(link, tag) {
+            let origin = self.origin(element)?;
+            let geometry = self
+                .child(element, "geometry")
+                .ok_or_else(|| self.geometry_err(link, element, "has no <geometry>"))?;
+            let shape_node = geometry
+                .children()
+                .find(|c| c.is_element())
+                .ok_or_else(|| self.geometry_err(link, element, "<geometry> is empty"))?;
+            let shape = self.shape(link, element, shape_node, packages)?;
+            out.push(GeometryElement {
+                origin,
+                shape,
+                line: self.line(element),
+            });
+        }
+        Ok(out)
+    }
+
+    fn geometry_err(&self, link: Node, element: Node, message: &str) -> Error {
+        Error::input(
+            self.path,
+            format!(
+                "{} <{}> (line {})",
+                self.describe(link),
+                element.tag_name().name(),
+                self.line(element)
+            ),
+            message.to_string(),
+        )
+    }
+
+    fn positive(&self, link: Node, element: Node, shape: Node, attr: &str) -> Result<f64> {
+        let v = self
+            .required_number(shape, attr)
+            .map_err(|e| self.nest(link, element, e))?;
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.geometry_err(
+                link,
+                element,
+                &format!(
+                    "<{}> {attr} must be positive, got {v}",
+                    shape.tag_name().name()
+                ),
+            ))
+        }
+    }
+
+    /// Re-labels an error raised on a geometry child so it names the link and the collision element.
+    fn nest(&self, link: Node, element: Node, e: Error) -> Error {
+        match e {
+            Error::Input {
+                message,
+                element: inner,
+                ..
+            } => self.geometry_err(link, element, &format!("{inner}: {message}")),
+            other => other,
+        }
+    }
+
+    fn shape(
+        &self,
+        link: Node,
+        element: Node,
+        shape: Node,
+        packages: &PackagePaths,
+    ) -> Result<ShapeSource> {
+        Ok(match shape.tag_name().name() {
+            "box" => {
+                let size = self
+                    .vec3(shape, "size", Vec3::ZERO)
+                    .map_err(|e| self.nest(link, element, e))?;
+                if shape.attribute("size").is_none() || size.min_element() <= 0.0 {
+                    return Err(self.geometry_err(link, element, "<box> needs a positive `size`"));
+                }
+                ShapeSource::Box { size }
+            }
+            "cylinder" => ShapeSource::Cylinder {
+                radius: self.positive(link, element, shape, "radius")?,
+                length: self.positive(link, element, shape, "length")?,
+            },
+            "capsule" => ShapeSource::Capsule {
+                radius: self.positive(link, element, shape, "radius")?,
+                length: self.positive(link, element, shape, "length")?,
+            },
+            "sphere" => ShapeSource::Sphere {
+                radius: self.positive(link, element, shape, "radius")?,
+            },
+            "mesh" => {
+                let uri = self
+                    .required(shape, "filename")
+                    .map_err(|e| self.nest(link, element, e))?;
+                let scale = self
+                    .vec3(shape, "scale", Vec3::ONE)
+                    .map_err(|e| self.nest(link, element, e))?;
+                let scale = match shape
+                    .attribute("scale")
+                    .map(|s| s.split_whitespace().count())
+                {
+                    // A single number scales uniformly (accepted by several ROS tools).
+                    Some(1) => Vec3::splat(
+                        self.optional_number(shape, "scale", 1.0)
+                            .map_err(|e| self.nest(link, element, e))?,
+                    ),
+                    _ => scale,
+                };
+                if scale.abs().min_element() == 0.0 {
+                    return Err(self.geometry_err(link, element, "<mesh> scale must not be zero"));
+                }
+                let path = packages.resolve(uri, self.path).map_err(|msg| {
+                    self.geometry_err(link, element, &format!("mesh \"{uri}\": {msg}"))
+                })?;
+                ShapeSource::Mesh {
+                    uri: uri.to_string(),
+                    path,
+                    scale,
+                }
+            }
+            other => {
+                return Err(self.geometry_err(
+                    link,
+                    element,
+                    &format!("unknown geometry <{other}>"),
+                ));
+            }
+        })
+    }
+
+    fn joint(
+        &self,
+        node: Node,
+        links: &HashMap<&str, usize>,
+        joints: &HashMap<&str, usize>,
+    ) -> Result<Joint> {
+        let name = self.required(node, "name")?.to_string();
+        let type_name = self.required(node, "type")?;
+        let kind = match type_name {
+            "revolute" => JointKind::Revolute,
+            "continuous" => JointKind::Continuous,
+            "prismatic" => JointKind::Prismatic,
+            "fixed" => JointKind::Fixed,
+            "floating" => JointKind::Floating,
+            "planar" => JointKind::Planar,
+            other => return Err(self.err(node, format!("unknown joint type \"{other}\""))),
+        };
+        let link_ref = |tag: &str| -> Result<usize> {
+            let child = self
+                .child(node, tag)
+                .ok_or_else(|| self.err(node, format!("missing <{tag} link=\"...\">")))?;
+            let link = self
+                .required(child, "link")
+                .map_err(|_| self.err(node, format!("<{tag}> has no `link` attribute")))?;
+            links.get(link).copied().ok_or_else(|| {
+                self.err(
+                    node,
+                    format!("<{tag}> names link \"{link}\", which does not exist"),
+                )
+            })
+        };
+        let parent = link_ref("parent")?;
+        let child = link_ref("child")?;
+        if parent == child {
+            return Err(self.err(node, "parent and child are the same link"));
+        }
+        let origin = self.origin(node)?;
+        let axis = match self.child(node, "axis") {
+            Some(a) => self.vec3(a, "xyz", Vec3::X)?,
+            None => Vec3::X,
+        };
+        let axis = if kind.is_actuated() || kind == JointKind::Planar {
+            let len = axis.length();
+            if len < 1e-12 {
+                return Err(self.err(node, "<axis xyz> must not be the zero vector"));
+            }
+            axis / len
+        } else {
+            axis.normalize_or(Vec3::X)
+        };
+        let limits = match kind {
+            JointKind::Revolute | JointKind::Prismatic => {
+                let limit = self.child(node, "limit").ok_or_else(|| {
+                    self.err(
+                        node,
+                        format!("a {type_name} joint needs <limit lower upper>"),
+                    )
+                })?;
+                let lower = self.optional_number(limit, "lower", 0.0)?;
+                let upper = self.optional_number(limit, "upper", 0.0)?;
+                if lower > upper {
+                    return Err(self.err(
+                        node,
+                        format!("<limit> lower {lower} is above upper {upper}"),
+                    ));
+                }
+                Some(Limits { lower, upper })
+            }
+            _ => None,
+        };
+        let mimic = match self.child(node, "mimic") {
+            Some(m) => {
+                let leader = self.required(m, "joint")?;
+                let joint = joints.get(leader).copied().ok_or_else(|| {
+                    self.err(
+                        node,
+                        format!("<mimic> names joint \"{leader}\", which does not exist"),
+                    )
+                })?;
+                Some(Mimic {
+                    joint,
+                    multiplier: self.optional_number(m, "multiplier", 1.0)?,
+                    offset: self.optional_number(m, "offset", 0.0)?,
+                })
+            }
+            None => None,
+        };
+        Ok(Joint {
+            name,
+            kind,
+            parent,
+            child,
+            origin,
+            axis,
+            limits,
+            mimic,
+        })
+    }
+}
+
+/// URDF roll-pitch-yaw (fixed axes X, then Y, then Z) as a rotation.
+pub fn rpy_to_rotation(rpy: Vec3) -> Rotation {
+    Rotation::from_rotation_z(rpy.z)
+        * Rotation::from_rotation_y(rpy.y)
+        * Rotation::from_rotation_x(rpy.x)
+}
+
+/// Rewrites mimic-of-mimic chains so every mimic names an actuated leader directly. Returns the index of a
+/// joint in a cycle on failure.
+fn resolve_mimic_chains(joints: &mut [Joint]) -> std::result::Result<(), usize> {
+    for i in 0..joints.len() {
+        let Some(mut m) = joints[i].mimic else {
+            continue;
+        };
+        let mut steps = 0;
+        while let Some(next) = joints[m.joint].mimic {
+            m = Mimic {
+                joint: next.joint,
+                multiplier: m.multiplier * next.multiplier,
+                offset: m.multiplier * next.offset + m.offset,
+            };
+            steps += 1;
+            if steps > joints.len() {
+                return Err(i);
+            }
+        }
+        if m.joint == i {
+            return Err(i);
+        }
+        joints[i].mimic = Some(m);
+    }
+    Ok(())
+}
