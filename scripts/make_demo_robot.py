@@ -293,6 +293,16 @@ def finger_mesh():  # left finger; pad face at x = -0.001 (1 mm past the centre 
 ALONG_Y = (HALF_PI, 0, 0)  # rpy of a <collision> turning its z axis onto the link's y axis (z -> -y)
 LINK4_MATRIX = [[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 100], [0, 0, 0, 1]]  # +90 deg about x, 100 mm up
 
+# The "always" pair: shoulder_stop (fixed to link1) against link2's key plate; only joint 2 moves
+# between them. The key is a flat plate tangent to the underside of link2's hub (bottom face at
+# KEY_DEPTH below joint 2's axis, x in [-KEY_HALF, KEY_HALF]), reaching past the hub's +y end.
+# The stop's top face lies STOP_GAP below it. Turning joint 2 by q lowers one end of the key to
+# KEY_DEPTH cos q + KEY_HALF sin |q| below the axis, so the two overlap unless |q| < 0.0405 rad
+# (97.7 % of joint 2's range [-1.76, 1.76]). Both sit at y >= 0.105, beyond link3's reach.
+KEY_DEPTH, KEY_HALF, STOP_GAP = 0.065, 0.1, 0.004
+KEY_Y, STOP_Y = (0.06, 0.135), (0.105, 0.135)  # y ranges (joint 2's axis is y)
+KEY_THICK, STOP_THICK, STOP_HALF = 0.01, 0.02, 0.105
+
 MESHES = {  # file -> (builder, writer, writer options); every builder returns element-frame metres
     "base.stl": (base_mesh, write_stl_binary, {}),
     "link1.obj": (link1_mesh, write_obj, {}),
@@ -319,7 +329,9 @@ LINKS = [
     ("base_link", 4.0, "demo_white", [mesh("meshes/base.stl"), prim("box", (0.26, 0.22, 0.012), xyz=(0, 0, 0.006))]),
     ("link1", 3.0, "demo_white", [mesh("package://demo_arm/meshes/link1.obj"),
                                   prim("cylinder", 0.05, 0.24, xyz=(0, 0, 0.213), rpy=ALONG_Y)]),
-    ("link2", 2.0, "demo_grey", [mesh("meshes/link2.dae")]),
+    ("link2", 2.0, "demo_grey", [mesh("meshes/link2.dae"),
+                                 prim("box", (2 * KEY_HALF, KEY_Y[1] - KEY_Y[0], KEY_THICK),
+                                      xyz=(0, sum(KEY_Y) / 2, -KEY_DEPTH + KEY_THICK / 2))]),
     ("link3", 2.5, "demo_white", [prim("sphere", 0.065), mesh("meshes/link3.stl"),
                                   prim("capsule", 0.055, 0.09, xyz=(0.0825, 0, 0.316), rpy=ALONG_Y)]),
     ("link4", 1.5, "demo_grey", [mesh("meshes/link4.dae")]),
@@ -333,6 +345,7 @@ LINKS = [
     ("finger_left", 0.02, "demo_black", [mesh("meshes/finger.stl")]),
     ("finger_right", 0.02, "demo_black", [mesh("meshes/finger.stl")]),
     ("camera_link", 0.1, "demo_black", [prim("box", (0.08, 0.025, 0.03))]),
+    ("shoulder_stop", 0.1, "demo_black", [prim("box", (2 * STOP_HALF, STOP_Y[1] - STOP_Y[0], STOP_THICK))]),
 ]
 COLORS = {"demo_white": "0.92 0.92 0.9 1", "demo_grey": "0.4 0.42 0.45 1", "demo_orange": "0.95 0.45 0.1 1",
           "demo_black": "0.08 0.08 0.08 1"}
@@ -343,6 +356,8 @@ ARM, WRIST = (87, 2.175), (12, 2.61)
 JOINTS = [
     ("joint1", "revolute", "base_link", "link1", (0, 0, 0.12), (0, 0, 0), (0, 0, 1), (-2.9, 2.9, *ARM)),
     ("joint2", "revolute", "link1", "link2", (0, 0, 0.213), (0, 0, 0), (0, 1, 0), (-1.76, 1.76, *ARM)),
+    ("shoulder_stop_joint", "fixed", "link1", "shoulder_stop",
+     (0, sum(STOP_Y) / 2, 0.213 - KEY_DEPTH - STOP_GAP - STOP_THICK / 2), (0, 0, 0), None, None),
     ("joint3", "revolute", "link2", "link3", (0, 0, 0), (0, 0, 0), (0, 0, 1), (-2.9, 2.9, *ARM)),
     ("joint4", "revolute", "link3", "link4", (0.0825, 0, 0.316), (0, 0, 0), (0, 1, 0), (0.1, 3.4, *ARM)),
     ("joint5", "revolute", "link4", "link5", (-0.0825, 0, 0.14), (0, 0, 0), (0, 0, 1), (-2.9, 2.9, *WRIST)),
@@ -467,7 +482,8 @@ def readme_text():
 SHAPES = {
     "base_link": "pedestal of revolution, r 0.11 at the floor to 0.07 at the top (z 0.12), on a foot plate",
     "link1": "column r 0.066-0.07 ending in a dome r 0.065 round C (z 0.213); motor cap r 0.05 along y through C",
-    "link2": "shoulder hub r 0.065 round joint 2's axis, y in [-0.07, 0.09]",
+    "link2": "shoulder hub r 0.065 round joint 2's axis, y in [-0.07, 0.09]; key plate under it, flat face "
+             "0.065 below the axis, x in [-0.1, 0.1], y in [0.06, 0.135]",
     "link3": "shoulder sphere r 0.065 at C; tube r 0.06-0.055, z 0.04-0.30; elbow capsule r 0.055 along y at joint 4",
     "link4": "L-shaped elbow bracket, 0.1 thick in y: hub r 0.055 round joint 4, leg x in [-0.13, -0.035] "
              "up to joint 5",
@@ -479,6 +495,8 @@ SHAPES = {
     "finger_left": "finger 0.021 (x) by 0.022 (y) by 0.083 (z), pad face at x = -0.001",
     "finger_right": "the same finger, turned by the joint's yaw",
     "camera_link": "camera box on the hand's +y side",
+    "shoulder_stop": "stop block beside link1's column, under link2's key plate: x in [-0.105, 0.105], "
+                     "y in [0.105, 0.135], top face 0.069 below C (4 mm under the key at home)",
 }
 
 README = """# demo_arm: the scm demo robot
@@ -492,12 +510,14 @@ Everything here (URDF, meshes, package.xml) is written by that script: no third-
 
 ## The robot
 
-A Panda-sized 7-DOF arm with a parallel two-finger gripper, 13 links (12 with geometry). Let C be
+A Panda-sized 7-DOF arm with a parallel two-finger gripper, 14 links (13 with geometry). Let C be
 the centre of joint 2, 0.333 m above the floor. The upper arm is 0.316 m (C to joint 4, plus a
 0.0825 m elbow offset along x), the forearm 0.384 m (joint 4 to joint 6, offset back by 0.0825 m),
 then 0.11 m to the flange (link8) and 0.115 m more to the fingertips: 0.81 m from C to the flange.
 Revolute axes are z or y of the parent frame, offsets are along z or x, all joint rpy are 0 except
-the right finger's (yaw π). Fingers slide along the hand's x axis.
+the right finger's (yaw π). Fingers slide along the hand's x axis. Under the shoulder, a key plate
+on link2 and a stop block fixed to link1 (its own link, shoulder_stop) line up only when joint 2 is
+within 0.04 rad of 0: the designed "always" pair (see below).
 
 Home, as used for the "default" category: every joint at 0, except joint4 whose range [0.1, 3.4]
 excludes 0, so it sits at the middle, 1.75 rad (the forearm points forward, 10° below horizontal).
@@ -511,39 +531,71 @@ cylinder): the link3 capsule spans y ∈ [-0.1, 0.1].
 
 ## Expected self-collision matrix
 
-Measured when the robot was designed: 50 000 uniform samples (joint7 in [-π, π], right finger
-mimicking the left) checked with parry on the convex pieces of every collision element; the
-whole-link convex hull gives the same categories. "gap" is the smallest distance found by sampling
-plus a local search. 12 links with geometry make 66 pairs: 10 adjacent, 1 always, 1 default,
-20 never, 33 sometimes, and link7-hand (below).
+Measured with scm itself on the whole-link convex hulls (`scm sample -n 20000 --types hull`, seed
+0: uniform samples, joint7 in [-π, π], the right finger mimicking the left). Fractions are of those
+20 000 samples; "gap" is the hull type's `d_min` (sampling, plus scm's targeted search for pairs
+closer than 2 cm). A hull fills concavities, so a gap between the hulls can be smaller than the
+one between the meshes. 13 links with geometry make 78 pairs:
 
-**Adjacent** (10): base_link-link1, link1-link2, link2-link3, link3-link4, link4-link5,
-link5-link6, link6-link7, hand-finger_left, hand-finger_right, hand-camera_link.
+| reason | pairs | which |
+| --- | --- | --- |
+| same-link | 0 | none with one hull per link; two pieces of one link on the convex-piece types (73 pairs on decomp-hull) |
+| adjacent | 12 | joined by a joint, or through the geometry-less link8 (link7-hand) |
+| default | 2 | link1-link3 (in collision in every sample, home included), finger_left-finger_right |
+| always | 1 | link2-shoulder_stop: 97.9 % of samples, 4 mm apart at home |
+| never | 23 | listed below with their gaps |
+| checked | 40 | everything else, in collision in 0.18 % to 28 % of samples |
 
-**link7-hand** are joined through link8, which has no geometry: adjacent if adjacency skips
-geometry-less links (as MoveIt does), otherwise **always** (rigidly fixed; the hand's mounting
-plate, z ∈ [-0.002, 0.01], overlaps the flange cylinder by 2 mm).
+The reasons are tried in MoveIt's order, the first that applies wins: same link, adjacent, default
+(in collision at home), always (in collision in at least 95 % of samples), never. So a pair that
+collides everywhere, home included, is **default**, not always.
 
-**Always** (1): link1-link3. Joint 3's axis passes through C, so C is a fixed point of link1,
-link2 and link3 at once. link1's dome (r 0.065) and motor cap (r 0.05) contain C, and so does
-link3's shoulder sphere (r 0.065): the two share a ball of radius 0.05 round C in every
-configuration, although joint 2 and joint 3 both move between them.
+**Adjacent** (12): base_link-link1, link1-link2, link1-shoulder_stop, link2-link3, link3-link4,
+link4-link5, link5-link6, link6-link7, link7-hand, hand-finger_left, hand-finger_right,
+hand-camera_link. link7 and hand are joined through link8, which has no geometry: adjacent by
+MoveIt's rule (rigidly fixed, the hand's mounting plate, z ∈ [-0.002, 0.01], overlaps the flange
+cylinder by 2 mm; without the rule they would be default).
 
-**Default**, colliding at home but not always (1): finger_left-finger_right. Each pad face is at
-x = -0.001 in its finger's frame and the right frame is yawed by π, so at finger_joint1 = 0 (home;
-0 is inside [0, 0.04]) the pads overlap by 2 mm. They part once the opening exceeds 1 mm: 2.5 %
-of samples collide.
+**Always** (1): link2-shoulder_stop, designed for it. Only joint 2 moves between them (the stop is
+fixed to link1, the key plate is part of link2; they are not adjacent: their path runs through
+link1 and joint 2). The key's underside is flat, tangent to the hub at 0.065 below joint 2's axis,
+and 0.2 wide (x ∈ [-0.1, 0.1]); the stop's top face is 0.069 below the axis, across x ∈ [-0.105,
+0.105], and both overlap over y ∈ [0.105, 0.135]. Turning joint 2 by q lowers one end of the key to
+0.065 cos q + 0.1 sin |q| below the axis, which passes 0.069 at |q| = 0.0405 rad: the two are apart
+only for |q2| < 0.0405, 2.3 % of joint 2's range [-1.76, 1.76], and overlap everywhere else (at
+q2 = ±1.76 the key's end still reaches 0.086 below the axis). Measured: 19 579 of 20 000 samples
+(97.9 %) collide, home gap 0.004, deepest overlap 0.030 (the key's corners, 0.119 from the axis,
+past the stop's bottom at 0.089). The stop and the key's overhang sit at y ≥ 0.105, beyond link3
+(|y| ≤ 0.065 near the shoulder): the stop never touches the upper arm (gap 0.015 on the hulls).
 
-**Never** (20), with the smallest gap found:
-- base_link-link2 (0.148): link2 is a body of revolution about joint 2's axis, so joint 2 only
-  spins it in place: its lowest point stays at 0.333 - 0.065 = 0.268, the base is 0.12 tall.
-- base_link-link3 (0.137): joint 2 tilts the upper arm at most 1.76 rad (10.8° below horizontal);
-  the lowest link3 gets is the elbow capsule at 0.333 + 0.316 cos 1.76 - 0.0825 sin 1.76 - 0.055
-  = 0.138 above the floor.
-- base_link-link4 (0.027), link1-link4 (0.044), link2-link4 (0.103): the elbow bracket stays
+**Default** (2):
+- link1-link3, in collision in every sample (100 %) but also at home. Joint 3's axis passes
+  through C, so C is a fixed point of link1, link2 and link3 at once. link1's dome (r 0.065) and
+  motor cap (r 0.05) contain C, and so does link3's shoulder sphere (r 0.065): the two share a
+  ball of radius 0.05 round C in every configuration, although joint 2 and joint 3 both move
+  between them. This is why the always pair above needed a gap at home.
+- finger_left-finger_right. Each pad face is at x = -0.001 in its finger's frame and the right
+  frame is yawed by π, so at finger_joint1 = 0 (home; 0 is inside [0, 0.04]) the pads overlap by
+  2 mm. They part once the opening exceeds 1 mm: 2.6 % of samples collide.
+
+**Never** (23), with the gap:
+- base_link-link2 (0.094): joint 2 spins link2 about its own axis; its lowest points are the key's
+  corners, sqrt(0.1² + 0.065²) = 0.119 from C: 0.333 - 0.119 = 0.214 above the floor, the base is
+  0.12 tall.
+- base_link-link3 (0.094): joint 2 tilts the upper arm at most 1.76 rad (10.8° below horizontal);
+  the lowest link3's meshes get is the elbow capsule at 0.333 + 0.316 cos 1.76 - 0.0825 sin 1.76 -
+  0.055 = 0.138 above the floor (the hulls, widened by the base's foot plate and link3's
+  sphere-to-capsule cone, come to 0.094).
+- base_link-link4 (0.025), link1-link4 (0.055), link2-link4 (0.103): the elbow bracket stays
   within 0.2 of joint 4, which stays 0.327 from C and above z = 0.19.
-- link4-link6 (0.163), link4-link7 (0.127), link4-hand (0.042), link4-finger_left (0.026),
-  link4-finger_right (0.026), link4-camera_link (0.077): the forearm keeps the wrist 0.384 from
+- base_link-shoulder_stop (0.128): only joint 1 moves between them; the stop is 0.244 to 0.264
+  above the floor, beside the column (y ≥ 0.105), the base 0.12 tall.
+- link3-shoulder_stop (0.015): link3 reaches |y| ≤ 0.065 near C; only its hull, widening towards
+  the elbow capsule (|y| ≤ 0.1), comes this close, with joint 2 at its limit.
+- link4-shoulder_stop (0.040): the stop hangs under the shoulder, where the elbow bracket does
+  not get.
+- link4-link6 (0.163), link4-link7 (0.127), link4-hand (0.042), link4-finger_left (0.033),
+  link4-finger_right (0.030), link4-camera_link (0.077): the forearm keeps the wrist 0.384 from
   joint 4, and folding joint 6 back (±2.6) brings the hand over the forearm, not the elbow.
 - link6-hand (0.038), link6-finger_left (0.072), link6-finger_right (0.072), link6-camera_link
   (0.055): only joint 7 (about the flange axis) moves between them; link6's neck ends at joint 7,
@@ -553,33 +605,41 @@ of samples collide.
 - finger_left-camera_link, finger_right-camera_link (0.0165): the camera is at y ≥ 0.0275 of the
   hand, the fingers at |y| ≤ 0.011, and they only move along x.
 
-**Sometimes** (33): every pair of {{base_link, link1, link2, link3}} × {{link5, link6, link7, hand,
-finger_left, finger_right, camera_link}} (28), and link5 × {{link7, hand, finger_left,
-finger_right, camera_link}} (5). Three wide ranges make the arm reach itself: joint 2 (±1.76)
-tilts the upper arm below horizontal, joint 4 (up to 3.4) folds the forearm back past parallel,
-joint 6 (±2.6) folds the hand back onto the forearm. Configurations to check by hand (joints
-1..7, fingers closed, others 0):
+**Checked** (40), in collision in some samples only: every pair of {{base_link, link1, link2,
+link3, shoulder_stop}} × {{link5, link6, link7, hand, finger_left, finger_right, camera_link}} (35),
+and link5 × {{link7, hand, finger_left, finger_right, camera_link}} (5). Three wide ranges make the
+arm reach itself: joint 2 (±1.76) tilts the upper arm below horizontal, joint 4 (up to 3.4) folds
+the forearm back past parallel, joint 6 (±2.6) folds the hand back onto the forearm.
+Configurations to check by hand (joints 1..7, fingers closed, others 0):
 - q4 = π: the forearm hangs parallel to the upper arm, its axis 2 × 0.0825 = 0.165 in front:
   joint 6 at (0.165, 0, 0.265), the flange at z 0.155, the hand pointing down. With q7 = 0 the
   palm (0.2 long along the hand's x) spans x ∈ [0.065, 0.265], z ∈ [0.09, 0.155]: it hits the
   base pedestal (r 0.08 there) and link1's column (r 0.07): base_link-hand, link1-hand. With
   q7 = π/2 the palm spans x ∈ [0.135, 0.195] only: no collision.
 - q4 ≥ 3.32 (3.22 with q5 = π, the cable duct turned inwards): the forearm swings past parallel
-  into the upper arm: link3-link5 (3.4 % of samples), then link2-link5, link1-link5, link3-link6...
+  into the upper arm: link3-link5 (8.5 % of samples on the hulls), then link2-link5, link1-link5,
+  link3-link6...
 - q2 = 1.0, q4 = 2.8: the upper arm leans forward, the folded forearm brings the wrist down onto
   the base: base_link-link6, base_link-link7, base_link-hand, base_link-camera_link.
 - q4 = 1.75, q6 = 2.6: the hand folds back onto the forearm: link5-link7, link5-hand,
   link5-camera_link.
 - q4 = 3.0, q6 = 2.6: folded elbow and wrist put the hand on the shoulder: link1-hand, link2-hand,
-  link3-hand.
+  link3-hand. A folded elbow (q4 ≈ 3.2) with the upper arm tilted (|q2| ≈ 1.3 to 1.6) brings the
+  forearm and wrist under the shoulder: link6-shoulder_stop (3.4 %), link5-shoulder_stop (1.9 %).
 
-Least frequent: link3-finger_left/right 0.7 %, base_link-link5 0.8 %, link3-camera_link 0.9 %,
-link2-finger_left/right 0.9 %; everything else is above 1 %, up to link5-link7 at 26 %. A matrix
-built from fewer than a few thousand samples may call the rarest of these "never".
+Least frequent: finger_right-shoulder_stop 0.18 %, finger_left-shoulder_stop 0.22 %,
+camera_link-shoulder_stop 0.34 %, base_link-link5 0.78 %, link3-finger_left/right 0.8 %;
+everything else is above 1 %, up to link5-link7 at 28 %. A matrix built from fewer than a few
+thousand samples may call the rarest of these "never".
 
-With one bounding sphere per link the picture coarsens: link6-hand, link7-camera_link and both
-finger-camera pairs become always; base_link-link3, link1-link4 and link4-hand become sometimes
-(base_link-link4 and link4-finger pairs rarely, about 0.05 %).
+Other shape types (same run, all six types): one oriented box per link (obb) gives the same
+matrix except base_link-link4 (0.03 %) and link3-shoulder_stop (36 %), which become checked. One
+bounding sphere per link coarsens it: link6-hand, link7-camera_link, both finger-camera pairs and
+base_link-shoulder_stop overlap at home (default), so do link2-shoulder_stop and
+link3-shoulder_stop (default); base_link-link3, link1-link4 and link4-hand become checked
+(base_link-link4 and the link4-finger pairs rarely, 0.03 to 0.09 %). On convex pieces
+(decomp-hull, decomp-obb) the always pair is the key's piece against the stop; the hub's pieces
+never reach it.
 
 ## What the files exercise
 
@@ -610,8 +670,8 @@ finger-camera pairs become always; base_link-link3, link1-link4 and link4-hand b
   (finger_joint1, meant to be x), `<transmission>` blocks whose `<joint>` children are not
   kinematic joints, `<gazebo>` blocks, `<inertial>`s, one top-level `<material>` referenced by
   name and inline ones in visuals, a `<capsule>`, several `<collision>`s per link with their own
-  origins, a fixed joint to a link with no geometry (link8) and one to a link with geometry
-  (camera_link).
+  origins, a fixed joint to a link with no geometry (link8) and two to links with geometry
+  (camera_link, shoulder_stop).
 """
 
 

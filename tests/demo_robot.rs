@@ -21,14 +21,14 @@ fn demo_arm_preprocesses_with_known_structure() {
     let report = preprocess(&opts, &NoProgress).unwrap();
     assert_eq!(
         (report.links, report.links_with_geometry, report.dofs),
-        (13, 12, 8)
+        (14, 13, 8)
     );
     assert!(report.warnings.is_empty(), "{:?}", report.warnings);
 
     let urdd = Urdd::open(&out).unwrap();
     let record = urdd.robot().unwrap();
-    // Transmission and gazebo <joint> children are not joints: 12 real ones.
-    assert_eq!(record.robot.joints.len(), 12);
+    // Transmission and gazebo <joint> children are not joints: 13 real ones.
+    assert_eq!(record.robot.joints.len(), 13);
     // joint4's range [0.1, 3.4] excludes 0: home is its middle.
     let joint4 = record.dofs.iter().find(|d| d.name == "joint4").unwrap();
     assert!((joint4.home() - 1.75).abs() < 1e-12);
@@ -39,7 +39,7 @@ fn demo_arm_preprocesses_with_known_structure() {
         .map(|[a, b]| (a.as_str(), b.as_str()))
         .collect();
     assert!(adjacent.contains(&("link7", "hand")), "{adjacent:?}");
-    assert_eq!(adjacent.len(), 11);
+    assert_eq!(adjacent.len(), 12);
     assert!(
         record
             .robot
@@ -48,11 +48,11 @@ fn demo_arm_preprocesses_with_known_structure() {
             .all(|l| l.name == "link8" || l.geometry_source == GeometryOrigin::Collision)
     );
 
-    // The U-shaped palm is split; the plain convex hub (link2) is not.
+    // The U-shaped palm is split; the plain cylinder (link7) is not.
     let links = urdd.links().unwrap();
     let pieces = |name: &str| links.iter().find(|l| l.link == name).unwrap().fit.pieces;
     assert!(pieces("hand") > 1, "hand: {}", pieces("hand"));
-    assert_eq!(pieces("link2"), 1);
+    assert_eq!(pieces("link7"), 1);
     for l in &links {
         let fit = &l.fit.relative_volume;
         // Every enclosing representation is at least the hull's volume (within the simplification).
