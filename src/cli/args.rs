@@ -23,6 +23,10 @@ pub struct Cli {
 pub enum Command {
     /// Read a URDF and its meshes and build the six shape representations of every link into a URDD.
     Preprocess(PreprocessArgs),
+    /// Sample random joint configurations: per-pair distance statistics and skip reasons for every type.
+    Sample(SampleArgs),
+    /// Preprocess and sample in one call; each stage is skipped when it is up to date.
+    Run(RunArgs),
     /// Open the interactive viewer on a URDD (needs the scm-viewer binary).
     View(ViewArgs),
 }
@@ -35,6 +39,36 @@ pub struct PreprocessArgs {
     /// The URDD directory to write (created if needed).
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
+    /// Shape construction.
+    #[command(flatten)]
+    pub shapes: ShapeArgs,
+    /// Rebuild even if the URDD is up to date.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `scm run`: preprocess and sample, each skipped when up to date.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// The robot's URDF file.
+    pub urdf: PathBuf,
+    /// The URDD directory to write (created if needed).
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+    /// Shape construction.
+    #[command(flatten)]
+    pub shapes: ShapeArgs,
+    /// Sampling.
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
+    /// Recompute every stage even if up to date.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// Flags of shape construction (preprocess).
+#[derive(Debug, Args)]
+pub struct ShapeArgs {
     /// Where `package://NAME/...` points, as NAME=DIR (repeatable).
     #[arg(long = "package-path", value_name = "NAME=DIR")]
     pub package_paths: Vec<String>,
@@ -47,9 +81,6 @@ pub struct PreprocessArgs {
     /// Voxel resolution of the convex decomposition.
     #[arg(long, default_value_t = 40, value_parser = clap::value_parser!(u32).range(8..=256))]
     pub decomp_resolution: u32,
-    /// Rebuild even if the URDD is up to date.
-    #[arg(long)]
-    pub force: bool,
 }
 
 /// `scm view`.
@@ -57,4 +88,60 @@ pub struct PreprocessArgs {
 pub struct ViewArgs {
     /// The URDD directory.
     pub urdd: PathBuf,
+}
+
+/// `scm sample`.
+#[derive(Debug, Args)]
+pub struct SampleArgs {
+    /// The URDD directory (after `scm preprocess`).
+    pub urdd: PathBuf,
+    /// Sampling.
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
+    /// Compute only shard K of N (0-based) and write its partial result into DIR/sample-shards/.
+    #[arg(long, value_name = "K/N", conflicts_with = "merge_shards")]
+    pub shard: Option<String>,
+    /// Merge the N shard results in DIR/sample-shards/ into the sample output.
+    #[arg(long, value_name = "N")]
+    pub merge_shards: Option<u32>,
+    /// Recompute even if the URDD is up to date.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// Flags of sampling.
+#[derive(Debug, Args)]
+pub struct SamplingArgs {
+    /// Number of random joint configurations.
+    #[arg(long, short = 'n', default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..))]
+    pub samples: u64,
+    /// Random seed.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Shape types to sample (comma-separated ids); default all six.
+    #[arg(long, value_delimiter = ',', value_parser = parse_shape_type)]
+    pub types: Vec<scm::shapes::ShapeType>,
+    /// Worker threads (default: all cores); the result does not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// A pair in collision in at least this fraction of the samples is skipped as `always`.
+    #[arg(long, default_value_t = 0.95)]
+    pub always_fraction: f64,
+    /// Compute d_mean from the first N samples (exact distances); 0 means all samples.
+    #[arg(long, value_name = "N", default_value_t = 25_000)]
+    pub mean_samples: u64,
+    /// d_min and d_max may differ from the exact extremes over the samples by at most this (m);
+    /// 0 makes them exact. Collision counts and witnesses are always exact.
+    #[arg(long, default_value_t = 5e-5)]
+    pub tolerance: f64,
+    /// Pairs never in collision but closer than this (m) get a targeted collision search.
+    #[arg(long, default_value_t = 0.02)]
+    pub search_margin: f64,
+}
+
+fn parse_shape_type(s: &str) -> Result<scm::shapes::ShapeType, String> {
+    scm::shapes::ShapeType::from_id(s).ok_or_else(|| {
+        let ids: Vec<&str> = scm::shapes::ShapeType::ALL.iter().map(|t| t.id()).collect();
+        format!("unknown shape type \"{s}\" (one of {})", ids.join(", "))
+    })
 }

@@ -3,10 +3,11 @@
 pub mod args;
 mod progress;
 
-use args::{Cli, Command, PreprocessArgs, ViewArgs};
+use args::{Cli, Command, PreprocessArgs, RunArgs, SampleArgs, SamplingArgs, ShapeArgs, ViewArgs};
 use scm::error::{Error, Result};
 use scm::preprocess::{PreprocessOptions, PreprocessReport, preprocess};
 use scm::robot::PackagePaths;
+use scm::sample::{SampleOptions, SampleReport, Shard, merge_shards, sample};
 use scm::shapes::{DecompParams, ShapeParams};
 use std::path::{Path, PathBuf};
 
@@ -14,59 +15,163 @@ use std::path::{Path, PathBuf};
 pub fn run(cli: &Cli) -> Result<()> {
     match &cli.command {
         Command::Preprocess(args) => run_preprocess(cli, args),
+        Command::Sample(args) => run_sample(cli, args),
+        Command::Run(args) => run_all(cli, args),
         Command::View(args) => run_view(args),
     }
 }
 
-/// `scm preprocess`: build the six shape representations into the URDD.
-fn run_preprocess(cli: &Cli, args: &PreprocessArgs) -> Result<()> {
+/// A bad command-line value.
+fn bad_flag(flag: &str, message: String) -> Error {
+    Error::input(Path::new("command line"), flag.to_string(), message)
+}
+
+/// Lowers the preprocess flags into library options.
+fn preprocess_options(
+    urdf: &Path,
+    out: &Path,
+    shapes: &ShapeArgs,
+    force: bool,
+) -> Result<PreprocessOptions> {
     let mut packages = PackagePaths::new();
-    for entry in &args.package_paths {
+    for entry in &shapes.package_paths {
         let (name, dir) = PackagePaths::parse_entry(entry).ok_or_else(|| {
-            Error::input(
-                Path::new("command line"),
+            bad_flag(
                 "--package-path",
                 format!("expected NAME=DIR, got \"{entry}\""),
             )
         })?;
         packages.insert(name, dir);
     }
-    let opts = PreprocessOptions {
-        urdf: args.urdf.clone(),
-        out: args.output.clone(),
+    Ok(PreprocessOptions {
+        urdf: urdf.to_path_buf(),
+        out: out.to_path_buf(),
         packages,
         params: ShapeParams {
-            max_hull_vertices: args.max_hull_vertices as usize,
+            max_hull_vertices: shapes.max_hull_vertices as usize,
             decomposition: DecompParams {
-                resolution: args.decomp_resolution,
-                max_pieces: args.max_pieces,
+                resolution: shapes.decomp_resolution,
+                max_pieces: shapes.max_pieces,
                 ..DecompParams::default()
             },
         },
-        force: args.force,
-    };
-    let bar = progress::Bar::new(cli.quiet);
-    let report = preprocess(&opts, &bar)?;
-    if !cli.quiet {
-        for w in &report.warnings {
-            eprintln!("note: {w}");
-        }
+        force,
+    })
+}
+
+/// Lowers the sampling flags into library options.
+fn sample_options(urdd: &Path, s: &SamplingArgs, force: bool) -> Result<SampleOptions> {
+    if !(s.always_fraction > 0.0 && s.always_fraction <= 1.0) {
+        return Err(bad_flag(
+            "--always-fraction",
+            format!("must be in (0, 1], got {}", s.always_fraction),
+        ));
     }
-    print_report(cli, &report);
+    if !(s.search_margin.is_finite() && s.search_margin >= 0.0) {
+        return Err(bad_flag(
+            "--search-margin",
+            format!("must be a distance >= 0, got {}", s.search_margin),
+        ));
+    }
+    if !(s.tolerance.is_finite() && (0.0..=1e-4).contains(&s.tolerance)) {
+        return Err(bad_flag(
+            "--tolerance",
+            format!("must be between 0 and 0.0001 m, got {}", s.tolerance),
+        ));
+    }
+    let mut opts = SampleOptions::new(urdd);
+    opts.samples = s.samples;
+    opts.seed = s.seed;
+    if !s.types.is_empty() {
+        let mut types = s.types.clone();
+        types.sort();
+        types.dedup();
+        opts.types = types;
+    }
+    opts.threads = s.threads;
+    opts.always_fraction = s.always_fraction;
+    opts.mean_samples = if s.mean_samples == 0 {
+        u64::MAX
+    } else {
+        s.mean_samples
+    };
+    opts.tolerance = s.tolerance;
+    opts.search.margin = s.search_margin;
+    opts.force = force;
+    Ok(opts)
+}
+
+/// `scm preprocess`: build the six shape representations into the URDD.
+fn run_preprocess(cli: &Cli, args: &PreprocessArgs) -> Result<()> {
+    let opts = preprocess_options(&args.urdf, &args.output, &args.shapes, args.force)?;
+    let report = preprocess(&opts, &progress::Bar::new(cli.quiet))?;
+    if cli.json {
+        print_json(&report);
+    } else {
+        print_preprocess(cli, &report);
+    }
     Ok(())
 }
 
-fn print_report(cli: &Cli, r: &PreprocessReport) {
+/// `scm sample`: sample joint space, or one shard of it, or merge shards.
+fn run_sample(cli: &Cli, args: &SampleArgs) -> Result<()> {
+    let mut opts = sample_options(&args.urdd, &args.sampling, args.force)?;
+    opts.shard = match &args.shard {
+        Some(s) => Some(Shard::parse(s).ok_or_else(|| {
+            bad_flag(
+                "--shard",
+                format!("expected K/N with 0 <= K < N, got \"{s}\""),
+            )
+        })?),
+        None => None,
+    };
+    let bar = progress::Bar::new(cli.quiet);
+    let report = match args.merge_shards {
+        Some(n) if n > 0 => merge_shards(&opts, n, &bar)?,
+        Some(_) => return Err(bad_flag("--merge-shards", "must be at least 1".into())),
+        None => sample(&opts, &bar)?,
+    };
     if cli.json {
-        println!("{}", serde_json::to_string_pretty(r).unwrap_or_default());
-        return;
+        print_json(&report);
+    } else {
+        print_sample(cli, &report);
     }
+    Ok(())
+}
+
+/// `scm run`: preprocess, then sample; each stage does nothing when up to date.
+fn run_all(cli: &Cli, args: &RunArgs) -> Result<()> {
+    let pre = preprocess_options(&args.urdf, &args.output, &args.shapes, args.force)?;
+    let sampling = sample_options(&args.output, &args.sampling, args.force)?;
+    let bar = progress::Bar::new(cli.quiet);
+    let pre_report = preprocess(&pre, &bar)?;
+    let sample_report = sample(&sampling, &bar)?;
+    if cli.json {
+        print_json(&serde_json::json!({ "preprocess": pre_report, "sample": sample_report }));
+    } else {
+        print_preprocess(cli, &pre_report);
+        print_sample(cli, &sample_report);
+    }
+    Ok(())
+}
+
+fn print_json<T: serde::Serialize>(value: &T) {
+    println!(
+        "{}",
+        serde_json::to_string_pretty(value).unwrap_or_default()
+    );
+}
+
+fn print_preprocess(cli: &Cli, r: &PreprocessReport) {
     if cli.quiet {
         return;
     }
+    for w in &r.warnings {
+        eprintln!("note: {w}");
+    }
     if r.up_to_date {
         println!(
-            "{}: up to date (robot \"{}\"), nothing to do",
+            "{}: preprocess up to date (robot \"{}\"), nothing to do",
             r.urdd.display(),
             r.robot
         );
@@ -82,6 +187,41 @@ fn print_report(cli: &Cli, r: &PreprocessReport) {
         r.dofs,
         counts.join(", ")
     );
+}
+
+fn print_sample(cli: &Cli, r: &SampleReport) {
+    if cli.quiet {
+        return;
+    }
+    if r.up_to_date {
+        println!("{}: sampling up to date, nothing to do", r.urdd.display());
+        return;
+    }
+    if let Some(f) = &r.shard_file {
+        println!("{}: wrote {f} in {:.1} s", r.urdd.display(), r.seconds);
+        return;
+    }
+    println!(
+        "{}: {} samples in {:.1} s",
+        r.urdd.display(),
+        r.samples,
+        r.seconds
+    );
+    for (t, s) in &r.types {
+        let reasons: Vec<String> = s
+            .reasons
+            .iter()
+            .map(|(reason, n)| format!("{} {n}", reason.id()))
+            .collect();
+        println!(
+            "  {:<13} {:>4} shapes: {}; search: {} pairs, {} never overturned",
+            t.id(),
+            s.shapes,
+            reasons.join(", "),
+            s.searched,
+            s.overturned
+        );
+    }
 }
 
 /// `scm view`: launch the viewer binary found next to this executable or on PATH.

@@ -3,6 +3,7 @@
 mod adjacency;
 mod kinematics;
 mod packages;
+mod tree;
 mod urdf;
 
 pub use kinematics::{Configuration, Dof, Kinematics};

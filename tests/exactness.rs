@@ -1,0 +1,238 @@
+//! The distance query path against an exact brute-force reference: for separated convex pairs, the
+//! minimum over vertex-triangle and edge-edge distances; for overlapping ones, no separating axis among
+//! face normals and edge-edge cross products. Prints the worst error per type.
+
+mod common;
+
+use scm::collision::{CollisionShape, signed_distance};
+use scm::math::{Pose, Vec3};
+use scm::preprocess::{PreprocessOptions, preprocess};
+use scm::progress::NoProgress;
+use scm::robot::{Kinematics, PackagePaths};
+use scm::shapes::{ConvexMesh, Geometry, ShapeParams, ShapeType, convex_hull};
+use scm::urdd::Urdd;
+use std::path::Path;
+
+fn closest_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    // Ericson, Real-Time Collision Detection, 5.1.5.
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
+}
+
+fn segment_distance(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3) -> f64 {
+    // Ericson 5.1.9.
+    let (d1, d2, r) = (q1 - p1, q2 - p2, p1 - p2);
+    let (a, e, f) = (d1.dot(d1), d2.dot(d2), d2.dot(r));
+    let c = d1.dot(r);
+    let b = d1.dot(d2);
+    let denom = a * e - b * b;
+    let mut s = if denom > 1e-18 {
+        ((b * f - c * e) / denom).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let mut t = (b * s + f) / e;
+    if t < 0.0 {
+        t = 0.0;
+        s = (-c / a).clamp(0.0, 1.0);
+    } else if t > 1.0 {
+        t = 1.0;
+        s = ((b - c) / a).clamp(0.0, 1.0);
+    }
+    (p1 + d1 * s).distance(p2 + d2 * t)
+}
+
+fn posed(mesh: &ConvexMesh, pose: &Pose) -> ConvexMesh {
+    ConvexMesh {
+        vertices: mesh
+            .vertices
+            .iter()
+            .map(|v| pose.transform_point(*v))
+            .collect(),
+        faces: mesh.faces.clone(),
+    }
+}
+
+fn edges(m: &ConvexMesh) -> Vec<(Vec3, Vec3)> {
+    let mut e: Vec<(u32, u32)> = m
+        .faces
+        .iter()
+        .flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])])
+        .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
+    e.sort_unstable();
+    e.dedup();
+    e.into_iter()
+        .map(|(a, b)| (m.vertices[a as usize], m.vertices[b as usize]))
+        .collect()
+}
+
+/// Exact distance between two separated convex polyhedra.
+fn brute_distance(a: &ConvexMesh, b: &ConvexMesh) -> f64 {
+    let mut best = f64::INFINITY;
+    for (p, m) in [(a, b), (b, a)] {
+        for v in &p.vertices {
+            for f in &m.faces {
+                let [x, y, z] = f.map(|i| m.vertices[i as usize]);
+                best = best.min(v.distance(closest_on_triangle(*v, x, y, z)));
+            }
+        }
+    }
+    let (ea, eb) = (edges(a), edges(b));
+    for (p1, q1) in &ea {
+        for (p2, q2) in &eb {
+            best = best.min(segment_distance(*p1, *q1, *p2, *q2));
+        }
+    }
+    best
+}
+
+/// Whether some face normal or edge cross product separates the two polyhedra.
+fn separated_by_axis(a: &ConvexMesh, b: &ConvexMesh) -> bool {
+    let normal = |m: &ConvexMesh, f: &[u32; 3]| {
+        let [x, y, z] = f.map(|i| m.vertices[i as usize]);
+        (y - x).cross(z - x)
+    };
+    let mut axes: Vec<Vec3> = a
+        .faces
+        .iter()
+        .map(|f| normal(a, f))
+        .chain(b.faces.iter().map(|f| normal(b, f)))
+        .collect();
+    for (p1, q1) in edges(a) {
+        for (p2, q2) in edges(b) {
+            axes.push((q1 - p1).cross(q2 - p2));
+        }
+    }
+    axes.iter().filter(|u| u.length() > 1e-12).any(|u| {
+        let u = u.normalize();
+        let proj = |m: &ConvexMesh| {
+            m.vertices
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                    (lo.min(v.dot(u)), hi.max(v.dot(u)))
+                })
+        };
+        let ((a0, a1), (b0, b1)) = (proj(a), proj(b));
+        a1 < b0 - 1e-9 || b1 < a0 - 1e-9
+    })
+}
+
+fn as_mesh(g: &Geometry) -> Option<ConvexMesh> {
+    match g {
+        Geometry::Hull(h) => Some(h.clone()),
+        Geometry::Obb(b) => convex_hull(&b.corners()).ok(),
+        Geometry::Sphere(_) => None,
+    }
+}
+
+fn check(urdf: &Path, name: &str, configurations: usize) {
+    let out = common::scratch(name);
+    let opts = PreprocessOptions {
+        urdf: urdf.to_path_buf(),
+        out: out.clone(),
+        packages: PackagePaths::new(),
+        params: ShapeParams::default(),
+        force: false,
+    };
+    preprocess(&opts, &NoProgress).unwrap();
+    let urdd = Urdd::open(&out).unwrap();
+    let robot = urdd.robot().unwrap().robot;
+    let kinematics = Kinematics::new(&robot);
+    for t in [ShapeType::Obb, ShapeType::Hull, ShapeType::DecompHull] {
+        let file = urdd.shapes(t).unwrap();
+        let geometry: Vec<Geometry> = file
+            .shapes
+            .iter()
+            .map(|s| urdd.geometry(&s.geometry).unwrap())
+            .collect();
+        let shapes: Vec<CollisionShape> = geometry
+            .iter()
+            .map(|g| CollisionShape::new(g).unwrap())
+            .collect();
+        let meshes: Vec<ConvexMesh> = geometry.iter().map(|g| as_mesh(g).unwrap()).collect();
+        let (mut worst, mut separated, mut overlapping) = (0.0f64, 0, 0);
+        let mut state = 12345u64;
+        let mut unit = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..configurations {
+            let q: Vec<f64> = kinematics
+                .dofs()
+                .iter()
+                .map(|d| d.lower + (d.upper - d.lower) * unit())
+                .collect();
+            let poses = kinematics.link_poses(&q);
+            for i in 0..shapes.len() {
+                for j in i + 1..shapes.len() {
+                    let (li, lj) = (file.shapes[i].link_index, file.shapes[j].link_index);
+                    if li == lj {
+                        continue;
+                    }
+                    let (pi, pj) = (shapes[i].pose(&poses[li]), shapes[j].pose(&poses[lj]));
+                    let d = signed_distance(&shapes[i], &pi, &shapes[j], &pj);
+                    let (mi, mj) = (posed(&meshes[i], &poses[li]), posed(&meshes[j], &poses[lj]));
+                    if d > 1e-6 {
+                        separated += 1;
+                        let exact = brute_distance(&mi, &mj);
+                        worst = worst.max((d - exact).abs());
+                    } else if d < -1e-6 {
+                        overlapping += 1;
+                        assert!(
+                            !separated_by_axis(&mi, &mj),
+                            "{name} {t}: pair {i}-{j} reported overlapping ({d}) but an axis separates it"
+                        );
+                    }
+                }
+            }
+        }
+        eprintln!(
+            "{name} {t}: {separated} separated pairs, worst distance error {worst:.2e} m; {overlapping} overlapping pairs, verdicts confirmed"
+        );
+        assert!(worst < 1e-6, "{name} {t}: worst error {worst}");
+        assert!(separated > 0 && overlapping > 0);
+    }
+}
+
+#[test]
+fn demo_arm_distances_match_brute_force() {
+    check(&common::demo_urdf(), "exact-demo", 25);
+}
+
+#[test]
+fn ur5e_distances_match_brute_force() {
+    let Some(robots) = common::robots_dir() else {
+        return;
+    };
+    check(&robots.join("ur5e/ur5e.urdf"), "exact-ur5e", 25);
+}

@@ -1,0 +1,337 @@
+//! `scm sample`: reasons on hand-checkable robots, MoveIt's adjacency on Panda, determinism across
+//! threads and shards, the targeted search, and clear errors on broken URDDs.
+
+mod common;
+
+use scm::preprocess::{PreprocessOptions, preprocess};
+use scm::progress::NoProgress;
+use scm::robot::PackagePaths;
+use scm::sample::{Reason, SampleFile, SampleOptions, sample};
+use scm::shapes::{ShapeParams, ShapeType};
+use scm::urdd::Urdd;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+fn preprocessed(urdf: &Path, name: &str) -> PathBuf {
+    let out = common::scratch(name);
+    let opts = PreprocessOptions {
+        urdf: urdf.to_path_buf(),
+        out: out.clone(),
+        packages: PackagePaths::new(),
+        params: ShapeParams::default(),
+        force: false,
+    };
+    preprocess(&opts, &NoProgress).unwrap();
+    out
+}
+
+fn read_sample(dir: &Path, t: ShapeType) -> SampleFile {
+    scm::urdd::read_json_file(&dir.join("sample").join(format!("{}.json", t.id()))).unwrap()
+}
+
+/// `(link a, link b) -> reason` for a whole-link type.
+fn reasons_by_link(dir: &Path, t: ShapeType) -> Vec<((String, String), Reason, f64)> {
+    let urdd = Urdd::open(dir).unwrap();
+    let shapes = urdd.shapes(t).unwrap().shapes;
+    read_sample(dir, t)
+        .pairs
+        .into_iter()
+        .map(|p| {
+            (
+                (shapes[p.a].link.clone(), shapes[p.b].link.clone()),
+                p.reason,
+                p.collision_fraction,
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn panda_adjacent_pairs_match_moveit() {
+    let Some(robots) = common::robots_dir() else {
+        return;
+    };
+    let dir = robots.join("panda");
+    let out = preprocessed(&dir.join("panda.urdf"), "panda-adj");
+    let record = Urdd::open(&out).unwrap().robot().unwrap();
+    let ours: BTreeSet<(String, String)> = record
+        .adjacent
+        .iter()
+        .map(|[a, b]| (a.clone().min(b.clone()), a.clone().max(b.clone())))
+        .collect();
+    let srdf = std::fs::read_to_string(dir.join("panda.srdf")).unwrap();
+    let doc = roxmltree::Document::parse(&srdf).unwrap();
+    let moveit: BTreeSet<(String, String)> = doc
+        .descendants()
+        .filter(|n| {
+            n.has_tag_name("disable_collisions") && n.attribute("reason") == Some("Adjacent")
+        })
+        .map(|n| {
+            let (a, b) = (
+                n.attribute("link1").unwrap().to_string(),
+                n.attribute("link2").unwrap().to_string(),
+            );
+            (a.clone().min(b.clone()), a.max(b))
+        })
+        .collect();
+    assert_eq!(ours, moveit);
+}
+
+#[test]
+fn demo_arm_reasons_are_the_designed_ones() {
+    let out = preprocessed(&common::demo_urdf(), "demo-reasons");
+    let mut opts = SampleOptions::new(&out);
+    opts.samples = 20_000;
+    opts.types = vec![ShapeType::Hull];
+    sample(&opts, &NoProgress).unwrap();
+    let pairs = reasons_by_link(&out, ShapeType::Hull);
+    let reason = |a: &str, b: &str| {
+        pairs
+            .iter()
+            .find(|((x, y), _, _)| (x == a && y == b) || (x == b && y == a))
+            .map(|(_, r, _)| *r)
+            .unwrap_or_else(|| panic!("no pair {a} {b}"))
+    };
+    assert_eq!(
+        reason("link7", "hand"),
+        Reason::Adjacent,
+        "bridged by the geometry-less flange"
+    );
+    assert_eq!(reason("link3", "link4"), Reason::Adjacent);
+    assert_eq!(
+        reason("finger_left", "finger_right"),
+        Reason::Default,
+        "the closed fingers touch at home"
+    );
+    assert_eq!(reason("base_link", "link2"), Reason::Never);
+    assert_eq!(reason("link5", "link7"), Reason::Checked);
+    let count = |r: Reason| pairs.iter().filter(|(_, x, _)| *x == r).count();
+    assert_eq!(count(Reason::Adjacent), 12);
+    assert_eq!(
+        reason("link2", "shoulder_stop"),
+        Reason::Always,
+        "collides except near joint2 = 0"
+    );
+    assert_eq!(
+        reason("link1", "link3"),
+        Reason::Default,
+        "always in contact, home included: default wins"
+    );
+    // Every never verdict carries zero collisions; every always pair collides in >= 95% of samples.
+    for (_, r, f) in &pairs {
+        match r {
+            Reason::Never => assert_eq!(*f, 0.0),
+            Reason::Always => assert!(*f >= 0.95),
+            _ => {}
+        }
+    }
+}
+
+/// Sample bytes of every type written by one run.
+fn sample_bytes(dir: &Path) -> Vec<Vec<u8>> {
+    ShapeType::ALL
+        .iter()
+        .filter_map(|t| std::fs::read(dir.join("sample").join(format!("{}.json", t.id()))).ok())
+        .collect()
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        if e.file_type().unwrap().is_dir() {
+            copy_dir(&e.path(), &to.join(e.file_name()));
+        } else {
+            std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+        }
+    }
+}
+
+#[test]
+fn same_seed_same_bytes_at_any_thread_count_and_sharding() {
+    let base = preprocessed(&common::demo_urdf(), "determinism");
+    let run = |name: &str, extra: &[&str]| -> PathBuf {
+        let dir = common::scratch(name);
+        copy_dir(&base, &dir);
+        let mut args = vec![
+            "sample",
+            dir.to_str().unwrap(),
+            "-n",
+            "3000",
+            "--seed",
+            "7",
+            "--types",
+            "sphere,obb,hull,decomp-hull",
+            "-q",
+        ];
+        args.extend_from_slice(extra);
+        let o = common::scm_str(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        dir
+    };
+    let one = run("t1", &["--threads", "1"]);
+    let two = run("t2", &["--threads", "2"]);
+    let reference = sample_bytes(&one);
+    assert_eq!(reference.len(), 4);
+    assert_eq!(
+        sample_bytes(&two),
+        reference,
+        "thread count changed the output"
+    );
+
+    // Three shards, merged, equal the single run byte for byte.
+    let sharded = run("shards", &["--shard", "0/3", "--threads", "2"]);
+    for k in ["1/3", "2/3"] {
+        let o = common::scm_str(&[
+            "sample",
+            sharded.to_str().unwrap(),
+            "-n",
+            "3000",
+            "--seed",
+            "7",
+            "--types",
+            "sphere,obb,hull,decomp-hull",
+            "-q",
+            "--shard",
+            k,
+        ]);
+        assert!(o.status.success());
+    }
+    assert!(
+        !sharded.join("sample").exists(),
+        "a shard alone writes no sample output"
+    );
+    let o = common::scm_str(&[
+        "sample",
+        sharded.to_str().unwrap(),
+        "-n",
+        "3000",
+        "--seed",
+        "7",
+        "--types",
+        "sphere,obb,hull,decomp-hull",
+        "-q",
+        "--merge-shards",
+        "3",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        sample_bytes(&sharded),
+        reference,
+        "merged shards differ from the single run"
+    );
+
+    let rerun = common::scm_str(&[
+        "--json",
+        "sample",
+        one.to_str().unwrap(),
+        "-n",
+        "3000",
+        "--seed",
+        "7",
+        "--types",
+        "sphere,obb,hull,decomp-hull",
+    ]);
+    let json: serde_json::Value = serde_json::from_slice(&rerun.stdout).unwrap();
+    assert_eq!(
+        json["up_to_date"], true,
+        "same inputs and parameters: a no-op"
+    );
+}
+
+/// An arm whose thin blade passes a thin post only within ~0.7 mrad of its 6 rad range.
+const NARROW: &str = r#"<robot name="narrow">
+  <link name="base"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <link name="post"><collision><origin xyz="0.1621 0.2524 0.2"/><geometry><box size="0.0001 0.0001 0.1"/></geometry></collision></link>
+  <link name="arm"><collision><origin xyz="0.3 0 0.2"/><geometry><box size="0.2 0.0001 0.02"/></geometry></collision></link>
+  <joint name="fix" type="fixed"><parent link="base"/><child link="post"/></joint>
+  <joint name="swing" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/><limit lower="-3" upper="3"/></joint>
+</robot>"#;
+
+#[test]
+fn targeted_search_finds_a_collision_random_sampling_misses() {
+    let dir = common::scratch("narrow-src");
+    let urdf = dir.join("narrow.urdf");
+    std::fs::write(&urdf, NARROW).unwrap();
+    let out = preprocessed(&urdf, "narrow");
+    let mut opts = SampleOptions::new(&out);
+    opts.samples = 500;
+    opts.types = vec![ShapeType::Obb];
+    sample(&opts, &NoProgress).unwrap();
+    let file = read_sample(&out, ShapeType::Obb);
+    let urdd = Urdd::open(&out).unwrap();
+    let shapes = urdd.shapes(ShapeType::Obb).unwrap().shapes;
+    let pair = file
+        .pairs
+        .iter()
+        .find(|p| {
+            let names = [shapes[p.a].link.as_str(), shapes[p.b].link.as_str()];
+            names.contains(&"post") && names.contains(&"arm")
+        })
+        .unwrap();
+    assert_eq!(
+        pair.collisions, 0,
+        "random sampling should miss the 0.7 mrad window"
+    );
+    let search = pair.search.as_ref().expect("the close pair was searched");
+    assert!(search.collision, "{search:?}");
+    assert_eq!(pair.reason, Reason::Checked);
+    // The witness really collides: the blade passes the post near atan2(0.2524, 0.1621) = 1.0 rad.
+    assert!((search.q[0] - 1.0).abs() < 0.01, "{:?}", search.q);
+    assert_eq!(file.summary.overturned, 1);
+}
+
+#[test]
+fn broken_urdds_are_bad_input() {
+    let base = preprocessed(&common::demo_urdf(), "broken");
+    let case = |name: &str, edit: &dyn Fn(&Path), expect: &str| {
+        let dir = common::scratch(name);
+        copy_dir(&base, &dir);
+        edit(&dir);
+        let o = common::scm_str(&["sample", dir.to_str().unwrap(), "-n", "100"]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name}: {stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{name}: {stderr}");
+        assert!(
+            stderr.contains(expect),
+            "{name}: expected `{expect}` in {stderr}"
+        );
+        assert!(!stderr.contains("panicked"));
+    };
+    case(
+        "no-manifest",
+        &|d| std::fs::remove_file(d.join("manifest.json")).unwrap(),
+        "run `scm preprocess",
+    );
+    case(
+        "truncated",
+        &|d| {
+            let p = d.join("preprocess/shapes/hull.json");
+            let bytes = std::fs::read(&p).unwrap();
+            std::fs::write(&p, &bytes[..bytes.len() / 2]).unwrap();
+        },
+        "hull.json",
+    );
+    case(
+        "future",
+        &|d| {
+            let p = d.join("manifest.json");
+            let text = std::fs::read_to_string(&p)
+                .unwrap()
+                .replace("\"format_version\": 1,", "\"format_version\": 99,");
+            std::fs::write(&p, text).unwrap();
+        },
+        "newer scm",
+    );
+    case(
+        "no-stage",
+        &|d| {
+            let p = d.join("manifest.json");
+            let mut m: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+            m["stages"].as_object_mut().unwrap().remove("preprocess");
+            std::fs::write(&p, serde_json::to_string(&m).unwrap()).unwrap();
+        },
+        "stage \"preprocess\"",
+    );
+}
