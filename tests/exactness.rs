@@ -6,10 +6,8 @@ mod common;
 
 use scm::collision::{CollisionShape, signed_distance};
 use scm::math::{Pose, Vec3};
-use scm::preprocess::{PreprocessOptions, preprocess};
-use scm::progress::NoProgress;
-use scm::robot::{Kinematics, PackagePaths};
-use scm::shapes::{ConvexMesh, Geometry, ShapeParams, ShapeType, convex_hull};
+use scm::robot::Kinematics;
+use scm::shapes::{ConvexMesh, Geometry, ShapeType, convex_hull};
 use scm::urdd::Urdd;
 use std::path::Path;
 
@@ -154,15 +152,7 @@ fn as_mesh(g: &Geometry) -> Option<ConvexMesh> {
 }
 
 fn check(urdf: &Path, name: &str, configurations: usize) {
-    let out = common::scratch(name);
-    let opts = PreprocessOptions {
-        urdf: urdf.to_path_buf(),
-        out: out.clone(),
-        packages: PackagePaths::new(),
-        params: ShapeParams::default(),
-        force: false,
-    };
-    preprocess(&opts, &NoProgress).unwrap();
+    let out = common::preprocessed(urdf, name);
     let urdd = Urdd::open(&out).unwrap();
     let robot = urdd.robot().unwrap().robot;
     let kinematics = Kinematics::new(&robot);

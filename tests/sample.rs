@@ -3,27 +3,12 @@
 
 mod common;
 
-use scm::preprocess::{PreprocessOptions, preprocess};
 use scm::progress::NoProgress;
-use scm::robot::PackagePaths;
 use scm::sample::{Reason, SampleFile, SampleOptions, sample};
-use scm::shapes::{ShapeParams, ShapeType};
+use scm::shapes::ShapeType;
 use scm::urdd::Urdd;
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
-
-fn preprocessed(urdf: &Path, name: &str) -> PathBuf {
-    let out = common::scratch(name);
-    let opts = PreprocessOptions {
-        urdf: urdf.to_path_buf(),
-        out: out.clone(),
-        packages: PackagePaths::new(),
-        params: ShapeParams::default(),
-        force: false,
-    };
-    preprocess(&opts, &NoProgress).unwrap();
-    out
-}
+use std::path::Path;
 
 fn read_sample(dir: &Path, t: ShapeType) -> SampleFile {
     scm::urdd::read_json_file(&dir.join("sample").join(format!("{}.json", t.id()))).unwrap()
@@ -52,7 +37,7 @@ fn panda_adjacent_pairs_match_moveit() {
         return;
     };
     let dir = robots.join("panda");
-    let out = preprocessed(&dir.join("panda.urdf"), "panda-adj");
+    let out = common::preprocessed(&dir.join("panda.urdf"), "panda-adj");
     let record = Urdd::open(&out).unwrap().robot().unwrap();
     let ours: BTreeSet<(String, String)> = record
         .adjacent
@@ -79,7 +64,7 @@ fn panda_adjacent_pairs_match_moveit() {
 
 #[test]
 fn demo_arm_reasons_are_the_designed_ones() {
-    let out = preprocessed(&common::demo_urdf(), "demo-reasons");
+    let out = common::preprocessed(&common::demo_urdf(), "demo-reasons");
     let mut opts = SampleOptions::new(&out);
     opts.samples = 20_000;
     opts.types = vec![ShapeType::Hull];
@@ -149,28 +134,24 @@ fn copy_dir(from: &Path, to: &Path) {
 
 #[test]
 fn same_seed_same_bytes_at_any_thread_count_and_sharding() {
-    let base = preprocessed(&common::demo_urdf(), "determinism");
-    let run = |name: &str, extra: &[&str]| -> PathBuf {
-        let dir = common::scratch(name);
-        copy_dir(&base, &dir);
-        let mut args = vec![
-            "sample",
-            dir.to_str().unwrap(),
-            "-n",
-            "3000",
-            "--seed",
-            "7",
-            "--types",
-            "sphere,obb,hull,decomp-hull",
-            "-q",
-        ];
+    let base = common::preprocessed(&common::demo_urdf(), "determinism");
+    // `scm sample DIR` with the same samples, seed and types every time, plus `extra`.
+    let sample_in = |dir: &Path, extra: &[&str]| {
+        let mut args = vec!["sample", dir.to_str().unwrap(), "-n", "3000", "--seed", "7"];
+        args.extend(["--types", "sphere,obb,hull,decomp-hull", "-q"]);
         args.extend_from_slice(extra);
         let o = common::scm_str(&args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        o
+    };
+    let fresh = |name: &str| {
+        let dir = common::scratch(name);
+        copy_dir(&base, &dir);
         dir
     };
-    let one = run("t1", &["--threads", "1"]);
-    let two = run("t2", &["--threads", "2"]);
+    let (one, two) = (fresh("t1"), fresh("t2"));
+    sample_in(&one, &["--threads", "1"]);
+    sample_in(&two, &["--threads", "2"]);
     let reference = sample_bytes(&one);
     assert_eq!(reference.len(), 4);
     assert_eq!(
@@ -180,63 +161,25 @@ fn same_seed_same_bytes_at_any_thread_count_and_sharding() {
     );
 
     // Three shards, merged, equal the single run byte for byte.
-    let sharded = run("shards", &["--shard", "0/3", "--threads", "2"]);
-    for k in ["1/3", "2/3"] {
-        let o = common::scm_str(&[
-            "sample",
-            sharded.to_str().unwrap(),
-            "-n",
-            "3000",
-            "--seed",
-            "7",
-            "--types",
-            "sphere,obb,hull,decomp-hull",
-            "-q",
-            "--shard",
-            k,
-        ]);
-        assert!(o.status.success());
+    let sharded = fresh("shards");
+    for k in ["0/3", "1/3", "2/3"] {
+        sample_in(&sharded, &["--shard", k]);
     }
     assert!(
         !sharded.join("sample").exists(),
         "a shard alone writes no sample output"
     );
-    let o = common::scm_str(&[
-        "sample",
-        sharded.to_str().unwrap(),
-        "-n",
-        "3000",
-        "--seed",
-        "7",
-        "--types",
-        "sphere,obb,hull,decomp-hull",
-        "-q",
-        "--merge-shards",
-        "3",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    sample_in(&sharded, &["--merge-shards", "3"]);
     assert_eq!(
         sample_bytes(&sharded),
         reference,
         "merged shards differ from the single run"
     );
 
-    let rerun = common::scm_str(&[
-        "--json",
-        "sample",
-        one.to_str().unwrap(),
-        "-n",
-        "3000",
-        "--seed",
-        "7",
-        "--types",
-        "sphere,obb,hull,decomp-hull",
-    ]);
+    // Same inputs and parameters: a no-op.
+    let rerun = sample_in(&one, &["--json"]);
     let json: serde_json::Value = serde_json::from_slice(&rerun.stdout).unwrap();
-    assert_eq!(
-        json["up_to_date"], true,
-        "same inputs and parameters: a no-op"
-    );
+    assert_eq!(json["up_to_date"], true);
 }
 
 /// An arm whose thin blade passes a thin post only within ~0.7 mrad of its 6 rad range.
@@ -253,7 +196,7 @@ fn targeted_search_finds_a_collision_random_sampling_misses() {
     let dir = common::scratch("narrow-src");
     let urdf = dir.join("narrow.urdf");
     std::fs::write(&urdf, NARROW).unwrap();
-    let out = preprocessed(&urdf, "narrow");
+    let out = common::preprocessed(&urdf, "narrow");
     let mut opts = SampleOptions::new(&out);
     opts.samples = 500;
     opts.types = vec![ShapeType::Obb];
@@ -283,7 +226,7 @@ fn targeted_search_finds_a_collision_random_sampling_misses() {
 
 #[test]
 fn broken_urdds_are_bad_input() {
-    let base = preprocessed(&common::demo_urdf(), "broken");
+    let base = common::preprocessed(&common::demo_urdf(), "broken");
     let case = |name: &str, edit: &dyn Fn(&Path), expect: &str| {
         let dir = common::scratch(name);
         copy_dir(&base, &dir);

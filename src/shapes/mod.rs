@@ -7,6 +7,8 @@ mod link_shapes;
 mod obb;
 mod per_type;
 mod sphere;
+#[cfg(test)]
+mod test_rng;
 
 pub use decomp::{DecompParams, convex_decomposition};
 pub use hull::{ConvexMesh, HullError, convex_hull, simplify_hull};

@@ -70,3 +70,18 @@ pub fn scm_str(args: &[&str]) -> Output {
     let args: Vec<&std::ffi::OsStr> = args.iter().map(|a| std::ffi::OsStr::new(*a)).collect();
     scm(&args)
 }
+
+/// Preprocesses `urdf` with default parameters into a fresh scratch URDD named after `name`.
+pub fn preprocessed(urdf: &Path, name: &str) -> PathBuf {
+    let out = scratch(name);
+    let opts = scm::preprocess::PreprocessOptions {
+        urdf: urdf.to_path_buf(),
+        out: out.clone(),
+        packages: scm::robot::PackagePaths::new(),
+        params: scm::shapes::ShapeParams::default(),
+        force: false,
+    };
+    scm::preprocess::preprocess(&opts, &scm::progress::NoProgress)
+        .unwrap_or_else(|e| panic!("{}: {e}", urdf.display()));
+    out
+}
