@@ -6,7 +6,9 @@
 //! sharding give the same bytes.
 
 mod engine;
+mod finalize;
 mod reasons;
+mod records;
 mod rng;
 mod search;
 mod stats;
@@ -14,6 +16,7 @@ mod table;
 
 pub use engine::{CHUNK, Engine};
 pub use reasons::{Evidence, Reason, infer, never_upper_bound};
+pub use records::{PairRecord, SampleFile, TypeSummary, Witness};
 pub use search::{SearchOutcome, SearchParams, path_dofs, search_pair};
 pub use stats::PairStats;
 
@@ -24,9 +27,8 @@ use crate::urdd::{
     FORMAT_VERSION, PREPROCESS, StageDir, StageRecord, Urdd, json_bytes, read_json_file,
     sha256_hex, write_atomic,
 };
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Folder of the sample stage.
@@ -123,82 +125,6 @@ pub struct SampleReport {
     pub seconds: f64,
 }
 
-/// Per-type counts.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-pub struct TypeSummary {
-    /// Shapes of this type.
-    pub shapes: usize,
-    /// Pairs per reason.
-    pub reasons: BTreeMap<Reason, usize>,
-    /// Pairs the targeted search examined.
-    pub searched: usize,
-    /// `never` verdicts the search overturned (a collision was found).
-    pub overturned: usize,
-}
-
-/// `sample/<type>.json`: statistics and reasons of every pair of one type.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SampleFile {
-    /// Format version.
-    pub format_version: u32,
-    /// The shape type.
-    pub shape_type: ShapeType,
-    /// Samples drawn.
-    pub samples: u64,
-    /// Seed.
-    pub seed: u64,
-    /// Most samples whose exact distance entered a pair's d_mean (each pair records its own count).
-    pub mean_samples: u64,
-    /// The `always` threshold.
-    pub always_fraction: f64,
-    /// 95% upper bound on the collision probability of a `never` pair (about 3 / samples).
-    pub never_upper_bound: f64,
-    /// Counts.
-    pub summary: TypeSummary,
-    /// One record per pair `a < b` in row-major order.
-    pub pairs: Vec<PairRecord>,
-}
-
-/// The statistics and verdict of one shape pair. Distances are signed: negative is penetration depth.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct PairRecord {
-    /// Row shape index.
-    pub a: usize,
-    /// Column shape index.
-    pub b: usize,
-    /// Why the pair may be skipped, or `checked`.
-    pub reason: Reason,
-    /// Minimum signed distance over the samples (m).
-    pub d_min: f64,
-    /// Mean signed distance (m) over the first `mean_samples` samples (exact distances).
-    pub d_mean: f64,
-    /// Samples in `d_mean`: enough for a 3-sigma error under 1% (from a 512-sample pilot), capped by
-    /// the file's `mean_samples`.
-    pub mean_samples: u64,
-    /// Maximum signed distance (m).
-    pub d_max: f64,
-    /// Samples in collision.
-    pub collisions: u64,
-    /// `collisions / samples`.
-    pub collision_fraction: f64,
-    /// Signed distance at the home configuration.
-    pub home_distance: f64,
-    /// Where `d_min` was reached: sample index (absent for rigid pairs) and configuration.
-    pub witness: Witness,
-    /// The targeted search's result, for pairs it examined.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub search: Option<SearchOutcome>,
-}
-
-/// A configuration where something was observed.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Witness {
-    /// The sample index, when it came from sampling.
-    pub sample: Option<u64>,
-    /// Joint values, one per DOF.
-    pub q: Vec<f64>,
-}
-
 /// A shard's partial result: exact accumulators of its chunks.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 struct ShardFile {
@@ -244,7 +170,7 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
         })
         .collect();
     progress.start("sampling", chunks.len() as u64 * CHUNK.min(opts.samples));
-    let acc = pool.install(|| accumulate(&engine, opts, &chunks, progress));
+    let acc = pool.install(|| finalize::accumulate(&engine, opts, &chunks, progress));
     progress.finish();
 
     if let Some(shard) = opts.shard {
@@ -262,7 +188,7 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
             started.elapsed().as_secs_f64(),
         ));
     }
-    let files = pool.install(|| finalize(&engine, opts, acc, progress));
+    let files = pool.install(|| finalize::finalize(&engine, opts, acc, progress));
     let seconds = started.elapsed().as_secs_f64();
     write_stage(&mut urdd, opts, key, &files)?;
     Ok(report(
@@ -326,7 +252,7 @@ pub fn merge_shards(
         }
     }
     let started = std::time::Instant::now();
-    let files = finalize(&engine, opts, acc, progress);
+    let files = finalize::finalize(&engine, opts, acc, progress);
     write_stage(&mut urdd, opts, key, &files)?;
     Ok(SampleReport {
         urdd: opts.urdd.clone(),
@@ -359,233 +285,6 @@ fn parameters(opts: &SampleOptions) -> serde_json::Value {
         m.remove("urdd");
     }
     v
-}
-
-/// Samples of the pilot run that sizes each pair's exact-mean budget.
-const PILOT: u64 = 512;
-
-/// How many leading samples enter each pair's mean exactly: enough for a 3-sigma error under 1% of the
-/// mean, judged from a pilot of the first [`PILOT`] samples, between `2 * PILOT` and `opts.mean_samples`.
-/// Depends only on the seed and the robot, so every thread count and shard gets the same budgets.
-fn mean_budgets(engine: &Engine, opts: &SampleOptions) -> Vec<Vec<u64>> {
-    let cap = opts.mean_samples.min(opts.samples);
-    if cap <= 2 * PILOT {
-        return engine
-            .sets
-            .iter()
-            .map(|s| vec![cap; s.pairs.len()])
-            .collect();
-    }
-    let pilot_budget: Vec<Vec<u64>> = engine
-        .sets
-        .iter()
-        .map(|s| vec![PILOT; s.pairs.len()])
-        .collect();
-    let run = engine::ChunkRun {
-        seed: opts.seed,
-        total: PILOT,
-        mean_budget: &pilot_budget,
-        tol: opts.tolerance,
-    };
-    let mut pilot: Vec<Vec<PairStats>> = engine
-        .sets
-        .iter()
-        .map(|s| vec![PairStats::default(); s.pairs.len()])
-        .collect();
-    engine.run_chunk(&run, 0, &mut pilot, &mut engine::Scratch::default());
-    pilot
-        .iter()
-        .map(|stats| {
-            stats
-                .iter()
-                .map(|st| {
-                    let (mean, std) = (st.mean().abs(), st.std());
-                    let needed = if mean > 0.0 {
-                        (3.0 * std / (0.01 * mean)).powi(2).ceil()
-                    } else {
-                        f64::INFINITY
-                    };
-                    (needed.min(cap as f64) as u64).max(2 * PILOT).min(cap)
-                })
-                .collect()
-        })
-        .collect()
-}
-
-/// Runs the chunks in parallel. Each chunk starts from empty accumulators (see [`Engine::run_chunk`]);
-/// chunk results merge exactly in any order.
-fn accumulate(
-    engine: &Engine,
-    opts: &SampleOptions,
-    chunks: &[u64],
-    progress: &dyn Progress,
-) -> Vec<Vec<PairStats>> {
-    let empty = || -> Vec<Vec<PairStats>> {
-        engine
-            .sets
-            .iter()
-            .map(|s| vec![PairStats::default(); s.pairs.len()])
-            .collect()
-    };
-    let budgets = mean_budgets(engine, opts);
-    let run = engine::ChunkRun {
-        seed: opts.seed,
-        total: opts.samples,
-        mean_budget: &budgets,
-        tol: opts.tolerance,
-    };
-    let merge = |mut a: Vec<Vec<PairStats>>, b: &[Vec<PairStats>]| {
-        for (x, y) in a.iter_mut().zip(b) {
-            x.iter_mut().zip(y).for_each(|(s, o)| s.merge(o));
-        }
-        a
-    };
-    chunks
-        .par_iter()
-        .fold(
-            || (empty(), empty(), engine::Scratch::default()),
-            |(total, mut chunk, mut scratch), &c| {
-                chunk.iter_mut().for_each(|v| v.fill(PairStats::default()));
-                engine.run_chunk(&run, c, &mut chunk, &mut scratch);
-                progress.advance(CHUNK.min(opts.samples - c * CHUNK));
-                (merge(total, &chunk), chunk, scratch)
-            },
-        )
-        .map(|(total, _, _)| total)
-        .reduce(empty, |a, b| merge(a, &b))
-}
-
-/// Rigid pairs, home distances, reasons, witnesses and the targeted search: from exact accumulators to files.
-fn finalize(
-    engine: &Engine,
-    opts: &SampleOptions,
-    acc: Vec<Vec<PairStats>>,
-    progress: &dyn Progress,
-) -> Vec<SampleFile> {
-    let home = engine.kinematics.home();
-    let adjacent: BTreeSet<(usize, usize)> = engine.robot.adjacent_pairs().into_iter().collect();
-    // Witness configurations, generated once per distinct sample index.
-    let witness_samples: BTreeSet<u64> = acc
-        .iter()
-        .flatten()
-        .filter(|s| s.min_sample != u64::MAX)
-        .map(|s| s.min_sample)
-        .collect();
-    let configs: HashMap<u64, Vec<f64>> = witness_samples
-        .into_par_iter()
-        .map(|k| (k, engine.configuration(opts.seed, k)))
-        .collect();
-    let n = opts.samples;
-    let mean_samples = opts.mean_samples.min(n);
-
-    let mut files = Vec::new();
-    for (s, (set, stats)) in engine.sets.iter().zip(acc).enumerate() {
-        let mut pairs: Vec<PairRecord> = set
-            .pairs
-            .par_iter()
-            .enumerate()
-            .map(|(p, &(i, j))| {
-                let (la, lb) = (set.links[i as usize], set.links[j as usize]);
-                let home_distance = engine.pair_distance(s, p, &home);
-                let (st, witness) = if set.moving[p] {
-                    let st = stats[p];
-                    (
-                        st,
-                        Witness {
-                            sample: Some(st.min_sample),
-                            q: configs.get(&st.min_sample).cloned().unwrap_or_default(),
-                        },
-                    )
-                } else {
-                    // Rigid: the distance is the same in every sample.
-                    let c = u64::from(home_distance <= 0.0) * n;
-                    let mut st = PairStats {
-                        collisions: c,
-                        ..PairStats::default()
-                    };
-                    st.observe_extremes(home_distance, 0);
-                    st.sum = (home_distance * 1e12).round() as i128 * i128::from(mean_samples);
-                    st.mean_count = mean_samples;
-                    (
-                        st,
-                        Witness {
-                            sample: None,
-                            q: home.clone(),
-                        },
-                    )
-                };
-                let collision_fraction = if n == 0 {
-                    0.0
-                } else {
-                    st.collisions as f64 / n as f64
-                };
-                let evidence = Evidence {
-                    same_link: la == lb,
-                    adjacent: adjacent.contains(&(la.min(lb), la.max(lb))),
-                    home_collision: home_distance <= 0.0,
-                    collision_fraction,
-                    search_collision: false,
-                };
-                let mut record = PairRecord {
-                    a: i as usize,
-                    b: j as usize,
-                    reason: infer(&evidence, opts.always_fraction),
-                    d_min: st.min,
-                    d_mean: st.mean(),
-                    mean_samples: st.mean_count,
-                    d_max: st.max,
-                    collisions: st.collisions,
-                    collision_fraction,
-                    home_distance,
-                    witness,
-                    search: None,
-                };
-                if record.reason == Reason::Never
-                    && set.moving[p]
-                    && record.d_min < opts.search.margin
-                {
-                    let outcome =
-                        search_pair(engine, s, p, &record.witness.q, opts.seed, &opts.search);
-                    if outcome.collision {
-                        record.reason = infer(
-                            &Evidence {
-                                search_collision: true,
-                                ..evidence
-                            },
-                            opts.always_fraction,
-                        );
-                    }
-                    record.search = Some(outcome);
-                }
-                record
-            })
-            .collect();
-        pairs.sort_by_key(|r| (r.a, r.b));
-        let mut summary = TypeSummary {
-            shapes: set.shapes.len(),
-            ..TypeSummary::default()
-        };
-        for r in &pairs {
-            *summary.reasons.entry(r.reason).or_default() += 1;
-            if let Some(o) = &r.search {
-                summary.searched += 1;
-                summary.overturned += usize::from(o.collision);
-            }
-        }
-        progress.advance(0);
-        files.push(SampleFile {
-            format_version: FORMAT_VERSION,
-            shape_type: set.shape_type,
-            samples: n,
-            seed: opts.seed,
-            mean_samples,
-            always_fraction: opts.always_fraction,
-            never_upper_bound: never_upper_bound(n),
-            summary,
-            pairs,
-        });
-    }
-    files
 }
 
 fn write_stage(
