@@ -5,11 +5,13 @@ use crate::math::Vec3;
 use crate::shapes::ConvexMesh;
 use parry3d_f64::shape::SupportMap;
 
-/// Vertices, their neighbours, and the extreme vertices along the six axis directions (climb starts).
+/// Vertices, their neighbours (compressed rows: vertex `v`'s are `neighbours[offsets[v]..offsets[v+1]]`),
+/// and the extreme vertices along the six axis directions (climb starts).
 #[derive(Debug, Clone)]
 pub struct HullSupport {
     vertices: Vec<Vec3>,
-    neighbours: Vec<Vec<u32>>,
+    offsets: Vec<u32>,
+    neighbours: Vec<u32>,
     starts: [u32; 6],
 }
 
@@ -37,9 +39,14 @@ impl HullSupport {
                 .unwrap_or(0)
         };
         let starts = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z].map(extreme);
+        let mut offsets = vec![0u32];
+        for list in &neighbours {
+            offsets.push(offsets[offsets.len() - 1] + list.len() as u32);
+        }
         HullSupport {
             vertices: mesh.vertices.clone(),
-            neighbours,
+            offsets,
+            neighbours: neighbours.concat(),
             starts,
         }
     }
@@ -64,7 +71,8 @@ impl SupportMap for HullSupport {
         let mut best = self.vertices[at].dot(dir);
         loop {
             let mut moved = false;
-            for &n in &self.neighbours[at] {
+            let (from, to) = (self.offsets[at] as usize, self.offsets[at + 1] as usize);
+            for &n in &self.neighbours[from..to] {
                 let d = self.vertices[n as usize].dot(dir);
                 if d > best {
                     best = d;
