@@ -34,9 +34,6 @@ pub enum Error {
         /// Why it failed.
         message: String,
     },
-    /// The run was interrupted (Ctrl-C); nothing was written.
-    #[error("interrupted; nothing was changed on disk")]
-    Interrupted,
 }
 
 impl Error {
@@ -61,7 +58,7 @@ impl Error {
     pub fn exit_code(&self) -> u8 {
         match self {
             Error::Input { .. } => 2,
-            Error::Io { .. } | Error::Failed { .. } | Error::Interrupted => 1,
+            Error::Io { .. } | Error::Failed { .. } => 1,
         }
     }
 }

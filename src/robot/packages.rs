@@ -27,11 +27,6 @@ impl PackagePaths {
         (!name.is_empty() && !dir.is_empty()).then(|| (name.to_string(), PathBuf::from(dir)))
     }
 
-    /// The explicit entries, for hashing into the stage parameters.
-    pub fn entries(&self) -> impl Iterator<Item = (&String, &PathBuf)> {
-        self.explicit.iter()
-    }
-
     /// Resolves a mesh `uri` written in the URDF at `urdf`. The error says what was tried.
     pub fn resolve(&self, uri: &str, urdf: &Path) -> Result<PathBuf, String> {
         let base = urdf.parent().unwrap_or(Path::new("."));

@@ -1,7 +1,7 @@
 //! All six representations of one link, built from its collision geometry in the link frame.
 
 use super::decomp::{DecompParams, convex_decomposition};
-use super::hull::{ConvexMesh, HullError, convex_hull, simplify_hull};
+use super::hull::{HullError, convex_hull, simplify_hull};
 use super::{Geometry, PerType, Scope, ShapeKind};
 use crate::mesh::TriMesh;
 use serde::{Deserialize, Serialize};
@@ -70,16 +70,4 @@ pub fn build_link_shapes(mesh: &TriMesh, params: &ShapeParams) -> Result<LinkSha
         pieces: pieces.len(),
     };
     Ok(LinkShapes { shapes, fit })
-}
-
-impl LinkShapes {
-    /// The decomposition pieces (the `decomp-hull` shapes).
-    pub fn pieces(&self) -> impl Iterator<Item = &ConvexMesh> {
-        self.shapes[super::ShapeType::DecompHull]
-            .iter()
-            .filter_map(|g| match g {
-                Geometry::Hull(h) => Some(h),
-                _ => None,
-            })
-    }
 }
