@@ -228,11 +228,10 @@ impl Engine {
             let (a, b) = (&set.shapes[i], &set.shapes[j]);
             // Sphere bounds on the signed distance: lower from the enclosing spheres, upper from the
             // inscribed ones (see `collision` for why both hold with penetration too).
-            let lower =
+            let mut lower =
                 scratch.outer[i].distance(scratch.outer[j]) - a.outer_radius - b.outer_radius;
-            let upper =
+            let mut upper =
                 scratch.inner[i].distance(scratch.inner[j]) - a.inner_radius - b.inner_radius;
-            let (mut lower, mut upper) = (lower, upper);
             if let Some(t) = &set.tables[p] {
                 let (lo, hi) = t.bounds(scratch.q[t.dof]);
                 lower = lower.max(lo);
@@ -240,33 +239,34 @@ impl Engine {
             }
             let st = &mut stats[p];
             let exact_mean = k < mean_budget[p];
-            let needs_exact = |lower: f64, upper: f64, st: &PairStats| {
+            let needs_exact = |lower: f64, st: &PairStats| {
                 exact_mean
                     || (lower <= 0.0 && upper >= 0.0)
                     || st.could_lower_min(lower, k, tol)
                     || st.could_raise_max(upper, k, tol)
             };
-            let mut exact = needs_exact(lower, upper, st);
+            if !needs_exact(lower, st) {
+                // The bounds decide: no new extreme, and the verdict is known.
+                st.collisions += u64::from(upper < 0.0);
+                continue;
+            }
+            // Shape poses only for the pairs that get past the sphere bounds.
             let (pa, pb) = (a.pose(&poses[set.links[i]]), b.pose(&poses[set.links[j]]));
-            if exact && !exact_mean {
+            if !exact_mean {
                 // A separating-axis test along the line between the centres tightens the lower bound.
                 let axis = (scratch.outer[j] - scratch.outer[i]).normalize_or(Vec3::Z);
                 lower = lower.max(axis_lower_bound(a, &pa, b, &pb, axis));
-                exact = needs_exact(lower, upper, st);
-            }
-            if exact {
-                let d = signed_distance(a, &pa, b, &pb);
-                st.observe_extremes(d, k);
-                if exact_mean {
-                    st.observe_mean(d);
+                if !needs_exact(lower, st) {
+                    st.collisions += u64::from(upper < 0.0);
+                    continue;
                 }
-                if d <= 0.0 {
-                    st.collisions += 1;
-                }
-            } else if upper < 0.0 {
-                st.collisions += 1;
             }
-            debug_assert!(lower <= upper + 1e-9);
+            let d = signed_distance(a, &pa, b, &pb);
+            st.observe_extremes(d, k);
+            if exact_mean {
+                st.observe_mean(d);
+            }
+            st.collisions += u64::from(d <= 0.0);
         }
     }
 }

@@ -111,7 +111,6 @@ pub(super) fn finalize(
     engine: &Engine,
     opts: &SampleOptions,
     acc: Vec<Vec<PairStats>>,
-    progress: &dyn Progress,
 ) -> Vec<SampleFile> {
     let home = engine.kinematics.home();
     let adjacent: BTreeSet<(usize, usize)> = engine.robot.adjacent_pairs().into_iter().collect();
@@ -223,7 +222,6 @@ pub(super) fn finalize(
                 summary.overturned += usize::from(o.collision);
             }
         }
-        progress.advance(0);
         files.push(SampleFile {
             format_version: FORMAT_VERSION,
             shape_type: set.shape_type,

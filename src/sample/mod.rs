@@ -188,7 +188,7 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
             started.elapsed().as_secs_f64(),
         ));
     }
-    let files = pool.install(|| finalize::finalize(&engine, opts, acc, progress));
+    let files = pool.install(|| finalize::finalize(&engine, opts, acc));
     let seconds = started.elapsed().as_secs_f64();
     write_stage(&mut urdd, opts, key, &files)?;
     Ok(report(
@@ -216,6 +216,7 @@ pub fn merge_shards(
         .iter()
         .map(|s| vec![PairStats::default(); s.pairs.len()])
         .collect();
+    progress.start("merging shards", u64::from(count));
     for index in 0..count {
         let path = opts.urdd.join(SHARDS).join(Shard::file(count, index));
         if !path.is_file() {
@@ -250,9 +251,11 @@ pub fn merge_shards(
                 })?;
             stats.iter_mut().zip(part).for_each(|(s, p)| s.merge(p));
         }
+        progress.advance(1);
     }
+    progress.finish();
     let started = std::time::Instant::now();
-    let files = finalize::finalize(&engine, opts, acc, progress);
+    let files = finalize::finalize(&engine, opts, acc);
     write_stage(&mut urdd, opts, key, &files)?;
     Ok(SampleReport {
         urdd: opts.urdd.clone(),
