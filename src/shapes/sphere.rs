@@ -280,31 +280,7 @@ mod tests {
 
     #[test]
     fn clouds_are_enclosed_and_deterministic() {
-        let mut r = Rng(2);
-        let axis = Vec3::new(1.0, 2.0, 0.5).normalize();
-        let (u, w) = axis.any_orthonormal_pair();
-        let clouds: Vec<Vec<Vec3>> = vec![
-            (0..1000)
-                .map(|_| r.v(-1.0, 1.0) * Vec3::new(0.5, 0.3, 0.1))
-                .collect(),
-            (0..1000).map(|_| r.unit() * 0.2 + Vec3::X).collect(),
-            (0..1000)
-                .map(|_| {
-                    let a = std::f64::consts::TAU * r.f();
-                    (u * a.cos() + w * a.sin()) * 0.02 + axis * r.f()
-                })
-                .collect(),
-            (0..1000)
-                .map(|i| {
-                    r.v(0.0, 1.0)
-                        * if i % 2 == 0 {
-                            Vec3::new(1.0, 0.2, 0.2)
-                        } else {
-                            Vec3::new(0.2, 1.0, 0.2)
-                        }
-                })
-                .collect(),
-        ];
+        let clouds = crate::shapes::test_rng::test_clouds();
         for pts in &clouds {
             let s = minimal_bounding_sphere(pts);
             assert_encloses(&s, pts);

@@ -36,3 +36,34 @@ impl Rng {
         Rotation::from_axis_angle(self.unit(), TAU * self.f())
     }
 }
+
+/// Test point clouds: a flat box, a sphere shell, a thin cylinder, an L shape.
+pub(crate) fn test_clouds() -> Vec<Vec<Vec3>> {
+    let mut r = Rng(7);
+    let axis = Vec3::new(1.0, 2.0, 0.5).normalize();
+    let (u, w) = axis.any_orthonormal_pair();
+    vec![
+        (0..500)
+            .map(|_| r.v(-1.0, 1.0) * Vec3::new(0.5, 0.3, 0.1) + Vec3::X)
+            .collect(),
+        (0..2000)
+            .map(|_| r.unit() * 0.2 + Vec3::new(0.1, -2.0, 0.3))
+            .collect(),
+        (0..1500)
+            .map(|_| {
+                (u * (TAU * r.f()).cos() + w * (TAU * r.f()).sin()).normalize() * 0.02
+                    + axis * r.f()
+            })
+            .collect(),
+        (0..800)
+            .map(|i| {
+                r.v(0.0, 1.0)
+                    * if i % 2 == 0 {
+                        Vec3::new(1.0, 0.2, 0.2)
+                    } else {
+                        Vec3::new(0.2, 1.0, 0.2)
+                    }
+            })
+            .collect(),
+    ]
+}

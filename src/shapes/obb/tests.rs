@@ -1,38 +1,7 @@
 //! Tests of the tight oriented bounding box.
 use super::*;
-use std::f64::consts::TAU;
 
-use crate::shapes::test_rng::Rng;
-
-fn clouds() -> Vec<Vec<Vec3>> {
-    let mut r = Rng(7);
-    let axis = Vec3::new(1.0, 2.0, 0.5).normalize();
-    let (u, w) = axis.any_orthonormal_pair();
-    vec![
-        (0..500)
-            .map(|_| r.v(-1.0, 1.0) * Vec3::new(0.5, 0.3, 0.1) + Vec3::X)
-            .collect(),
-        (0..2000)
-            .map(|_| r.unit() * 0.2 + Vec3::new(0.1, -2.0, 0.3))
-            .collect(),
-        (0..1500)
-            .map(|_| {
-                (u * (TAU * r.f()).cos() + w * (TAU * r.f()).sin()).normalize() * 0.02
-                    + axis * r.f()
-            })
-            .collect(),
-        (0..800)
-            .map(|i| {
-                r.v(0.0, 1.0)
-                    * if i % 2 == 0 {
-                        Vec3::new(1.0, 0.2, 0.2)
-                    } else {
-                        Vec3::new(0.2, 1.0, 0.2)
-                    }
-            })
-            .collect(),
-    ]
-}
+use crate::shapes::test_rng::{Rng, test_clouds};
 
 fn check_box(b: &Obb, pts: &[Vec3]) {
     assert!(pts.iter().all(|p| b.contains(*p, 0.0)), "{b:?}");
@@ -96,7 +65,7 @@ fn axis_aligned_box_keeps_identity() {
 #[test]
 fn clouds_are_enclosed_tightly() {
     let mut r = Rng(9);
-    for pts in clouds() {
+    for pts in test_clouds() {
         let hull = convex_hull(&pts).unwrap();
         let b = tight_obb(&hull);
         check_box(&b, &pts);
