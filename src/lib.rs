@@ -4,6 +4,7 @@
 pub mod collision;
 pub mod error;
 pub mod math;
+pub mod matrix;
 pub mod mesh;
 pub mod preprocess;
 pub mod progress;
