@@ -2,7 +2,11 @@
 //! the viewer, tests and benchmarks all call the same code.
 
 pub mod collision;
+pub mod compare;
 pub mod error;
+pub mod export;
+pub mod formats;
+pub mod import;
 pub mod math;
 pub mod matrix;
 pub mod mesh;
