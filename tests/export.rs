@@ -286,3 +286,34 @@ fn mjcf_excludes_compile_in_mujoco() {
         );
     }
 }
+
+#[test]
+fn drake_filter_groups_load_in_drake_and_filter_exactly_the_exported_pairs() {
+    let Some(robots) = robots_dir() else { return };
+    let Some(python) = common::python_with(&["pydrake"]) else {
+        return;
+    };
+    for (name, urdf) in [
+        ("demo", demo_urdf()),
+        ("panda", robots.join("panda/panda.urdf")),
+    ] {
+        let dir = sampled(&urdf, &format!("export-drake-{name}"), 1000);
+        let report = exported(&dir);
+        let file = |suffix: &str| {
+            dir.join(EXPORT)
+                .join(report.files.iter().find(|f| f.ends_with(suffix)).unwrap())
+        };
+        let exported_pairs = srdf_pairs(&read(&file(".srdf")));
+        let v = run_consumer(
+            python,
+            "check_drake.py",
+            &[&urdf, &file(".drake-filters.xml")],
+        );
+        // Drake filters joined and welded bodies itself; the groups add exactly the exported pairs.
+        let expected: BTreeSet<_> = exported_pairs
+            .union(&json_pairs(&v["without"]))
+            .cloned()
+            .collect();
+        assert_eq!(json_pairs(&v["with"]), expected, "{name}");
+    }
+}

@@ -108,9 +108,9 @@ pub fn python_with(modules: &[&str]) -> Option<&'static str> {
         return Some("python3");
     }
     if std::env::var("CI").is_ok_and(|v| v == "true") {
-        panic!("python3 with {modules:?} is required under CI=true (pip install pin mujoco)");
+        panic!("python3 with {modules:?} is required under CI=true (pip install pin mujoco drake)");
     }
-    eprintln!("skipping: python3 with {modules:?} not available (pip install pin mujoco)");
+    eprintln!("skipping: python3 with {modules:?} not available (pip install pin mujoco drake)");
     None
 }
 
