@@ -42,6 +42,29 @@ struct Step {
     value: Value,
 }
 
+impl Step {
+    /// The child link's pose in the parent link's frame at configuration `q`.
+    fn transform(&self, q: &[f64]) -> Pose {
+        let value = match self.value {
+            Value::Fixed => 0.0,
+            Value::Dof(d) => q[d],
+            Value::Mimic {
+                dof,
+                multiplier,
+                offset,
+            } => dof.map_or(0.0, |d| q[d]) * multiplier + offset,
+        };
+        let motion = match self.kind {
+            JointKind::Revolute | JointKind::Continuous => {
+                Pose::from_rotation(Rotation::from_axis_angle(self.axis, value))
+            }
+            JointKind::Prismatic => Pose::from_translation(self.axis * value),
+            JointKind::Fixed | JointKind::Floating | JointKind::Planar => Pose::IDENTITY,
+        };
+        self.origin * motion
+    }
+}
+
 #[derive(Debug, Clone, Copy)]
 enum Value {
     Fixed,
@@ -57,6 +80,8 @@ enum Value {
 #[derive(Debug, Clone)]
 pub struct Kinematics {
     steps: Vec<Step>,
+    /// Per link, the steps from the root to it, in order.
+    chains: Vec<Vec<usize>>,
     dofs: Vec<Dof>,
     root: usize,
     link_count: usize,
@@ -114,8 +139,15 @@ impl Kinematics {
                 frontier.push(j.child);
             }
         }
+        let mut chains: Vec<Vec<usize>> = vec![Vec::new(); robot.links.len()];
+        for (i, step) in steps.iter().enumerate() {
+            let mut chain = chains[step.parent].clone();
+            chain.push(i);
+            chains[step.child] = chain;
+        }
         Kinematics {
             steps,
+            chains,
             dofs,
             root: robot.root,
             link_count: robot.links.len(),
@@ -138,24 +170,15 @@ impl Kinematics {
         poses.resize(self.link_count, Pose::IDENTITY);
         poses[self.root] = Pose::IDENTITY;
         for s in &self.steps {
-            let value = match s.value {
-                Value::Fixed => 0.0,
-                Value::Dof(d) => q[d],
-                Value::Mimic {
-                    dof,
-                    multiplier,
-                    offset,
-                } => dof.map_or(0.0, |d| q[d]) * multiplier + offset,
-            };
-            let motion = match s.kind {
-                JointKind::Revolute | JointKind::Continuous => {
-                    Pose::from_rotation(Rotation::from_axis_angle(s.axis, value))
-                }
-                JointKind::Prismatic => Pose::from_translation(s.axis * value),
-                JointKind::Fixed | JointKind::Floating | JointKind::Planar => Pose::IDENTITY,
-            };
-            poses[s.child] = poses[s.parent] * s.origin * motion;
+            poses[s.child] = poses[s.parent] * s.transform(q);
         }
+    }
+
+    /// Pose of one link in the root frame at configuration `q`: only the joints on its chain.
+    pub fn link_pose(&self, q: &[f64], link: usize) -> Pose {
+        self.chains[link]
+            .iter()
+            .fold(Pose::IDENTITY, |pose, &i| pose * self.steps[i].transform(q))
     }
 
     /// Pose of every link in the root frame at configuration `q`.

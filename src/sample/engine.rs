@@ -158,16 +158,22 @@ impl Engine {
 
     /// Signed distance of pair `p` of set `s` at configuration `q` (exact).
     pub fn pair_distance(&self, s: usize, p: usize, q: &[f64]) -> f64 {
+        self.pair_at(s, p, q).distance()
+    }
+
+    /// Pair `p` of set `s` placed at configuration `q` (forward kinematics of its two links only).
+    pub fn pair_at(&self, s: usize, p: usize, q: &[f64]) -> PlacedPair<'_> {
         let set = &self.sets[s];
-        let poses = self.kinematics.link_poses(q);
         let (i, j) = set.pairs[p];
         let (a, b) = (&set.shapes[i as usize], &set.shapes[j as usize]);
-        signed_distance(
+        let link_a = self.kinematics.link_pose(q, set.links[i as usize]);
+        let link_b = self.kinematics.link_pose(q, set.links[j as usize]);
+        PlacedPair {
             a,
-            &a.pose(&poses[set.links[i as usize]]),
             b,
-            &b.pose(&poses[set.links[j as usize]]),
-        )
+            link_a,
+            link_b,
+        }
     }
 
     /// Samples chunk `chunk` (samples `chunk*CHUNK ..` up to `run.total`) into `acc[set][pair]`, which
@@ -238,6 +244,9 @@ impl Engine {
                 upper = upper.min(hi);
             }
             let st = &mut stats[p];
+            // The control bound of the mean estimate: the same cheap bound for every sample.
+            let control = if lower.is_finite() { lower } else { 0.0 };
+            st.observe_bound(control);
             let exact_mean = k < mean_budget[p];
             let needs_exact = |lower: f64, st: &PairStats| {
                 exact_mean
@@ -264,9 +273,37 @@ impl Engine {
             let d = signed_distance(a, &pa, b, &pb);
             st.observe_extremes(d, k);
             if exact_mean {
-                st.observe_mean(d);
+                st.observe_mean(d, control);
             }
             st.collisions += u64::from(d <= 0.0);
         }
+    }
+}
+
+/// Two shapes of a pair with their links' poses at some configuration.
+#[derive(Debug, Clone, Copy)]
+pub struct PlacedPair<'a> {
+    a: &'a CollisionShape,
+    b: &'a CollisionShape,
+    link_a: Pose,
+    link_b: Pose,
+}
+
+impl PlacedPair<'_> {
+    /// A lower bound on the signed distance from the enclosing spheres (cheap).
+    pub fn lower_bound(&self) -> f64 {
+        let ca = self.link_a.transform_point(self.a.outer_center);
+        let cb = self.link_b.transform_point(self.b.outer_center);
+        ca.distance(cb) - self.a.outer_radius - self.b.outer_radius
+    }
+
+    /// The exact signed distance.
+    pub fn distance(&self) -> f64 {
+        signed_distance(
+            self.a,
+            &self.a.pose(&self.link_a),
+            self.b,
+            &self.b.pose(&self.link_b),
+        )
     }
 }

@@ -15,8 +15,10 @@ use std::collections::{BTreeSet, HashMap};
 /// Samples of the pilot run that sizes each pair's exact-mean budget.
 const PILOT: u64 = 512;
 
-/// How many leading samples enter each pair's mean exactly: enough for a 3-sigma error under 1% of the
-/// mean, judged from a pilot of the first [`PILOT`] samples, between `2 * PILOT` and `opts.mean_samples`.
+/// How many leading samples enter each pair's mean estimate exactly: enough for a 3-sigma error under
+/// 1% of the mean (residual spread after the control bound, judged from a pilot of the first [`PILOT`]
+/// samples), at least `2 * PILOT`; a pair that would need more than `opts.mean_samples` gets every
+/// sample, so its mean is exact.
 /// Depends only on the seed and the robot, so every thread count and shard gets the same budgets.
 pub(super) fn mean_budgets(engine: &Engine, opts: &SampleOptions) -> Vec<Vec<u64>> {
     let cap = opts.mean_samples.min(opts.samples);
@@ -56,7 +58,12 @@ pub(super) fn mean_budgets(engine: &Engine, opts: &SampleOptions) -> Vec<Vec<u64
                     } else {
                         f64::INFINITY
                     };
-                    (needed.min(cap as f64) as u64).max(2 * PILOT).min(cap)
+                    // A pair the cap cannot bring within 1% gets every sample (an exact mean).
+                    if needed > cap as f64 {
+                        opts.samples
+                    } else {
+                        (needed as u64).max(2 * PILOT).min(cap)
+                    }
                 })
                 .collect()
         })

@@ -94,9 +94,16 @@ pub fn search_pair(
     let mut starts: Vec<(f64, Vec<f64>)> = vec![(eval(witness), witness.to_vec())];
     let mut rng = Rng::new(seed, (set as u64) << 40 | pair as u64);
     let mut q = witness.to_vec();
+    let keep = params.starts.max(1);
     for _ in 0..params.dense_samples {
         for (&d, &(lo, hi)) in dofs.iter().zip(&bounds) {
             q[d] = rng.range(lo, hi);
+        }
+        // No collision so far, so every kept start is positive: a sample whose sphere lower bound
+        // exceeds the worst kept start can neither collide nor become a start.
+        let placed = engine.pair_at(set, pair, &q);
+        if starts.len() >= keep && placed.lower_bound() > starts[starts.len() - 1].0 {
+            continue;
         }
         let d = eval(&q);
         if d <= 0.0 {
@@ -109,7 +116,7 @@ pub fn search_pair(
         }
         starts.push((d, q.clone()));
         starts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        starts.truncate(params.starts.max(1));
+        starts.truncate(keep);
     }
 
     // Pattern search from each start: try +-step on every path joint, halve the step when stuck.

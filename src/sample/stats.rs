@@ -6,6 +6,12 @@ use serde::{Deserialize, Serialize};
 /// Distances are summed in fixed point (1e-12 m) so the sum does not depend on the order of addition.
 const SUM_UNITS_PER_METRE: f64 = 1e12;
 
+/// `x` in fixed point.
+#[inline]
+fn fixed(x: f64) -> i128 {
+    (x * SUM_UNITS_PER_METRE).round() as i128
+}
+
 /// Statistics of one shape pair over a set of samples.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PairStats {
@@ -19,14 +25,29 @@ pub struct PairStats {
     pub max: f64,
     /// Sample index where `max` was first reached.
     pub max_sample: u64,
-    /// Sum of the distances entering the mean, in units of 1e-12 m.
+    /// Sum of the exact distances entering the mean, in units of 1e-12 m.
     #[serde(with = "i128_string")]
     pub sum: i128,
-    /// Sum of the squared distances entering the mean, in units of 1e-12 m^2.
+    /// Sum of their squares, in units of 1e-12 m^2.
     #[serde(with = "i128_string")]
     pub sum_sq: i128,
     /// Number of distances in `sum`.
     pub mean_count: u64,
+    /// Sum of the control bound over the same samples as `sum` (1e-12 m).
+    #[serde(with = "i128_string", default)]
+    pub ctl_sum: i128,
+    /// Sum of its squares over those samples (1e-12 m^2).
+    #[serde(with = "i128_string", default)]
+    pub ctl_sq: i128,
+    /// Sum of distance times control bound over those samples (1e-12 m^2).
+    #[serde(with = "i128_string", default)]
+    pub ctl_cross: i128,
+    /// Sum of the control bound over every sample (1e-12 m).
+    #[serde(with = "i128_string", default)]
+    pub bound_sum: i128,
+    /// Number of samples in `bound_sum`.
+    #[serde(default)]
+    pub bound_count: u64,
     /// Samples in collision (signed distance <= 0).
     pub collisions: u64,
 }
@@ -41,6 +62,11 @@ impl Default for PairStats {
             sum: 0,
             sum_sq: 0,
             mean_count: 0,
+            ctl_sum: 0,
+            ctl_sq: 0,
+            ctl_cross: 0,
+            bound_sum: 0,
+            bound_count: 0,
             collisions: 0,
         }
     }
@@ -73,32 +99,78 @@ impl PairStats {
         }
     }
 
-    /// Adds `d` to the mean.
+    /// Adds a sample's control bound (a cheap function of the configuration, computed for every
+    /// sample) to the control mean.
     #[inline]
-    pub fn observe_mean(&mut self, d: f64) {
-        self.sum += (d * SUM_UNITS_PER_METRE).round() as i128;
-        self.sum_sq += (d * d * SUM_UNITS_PER_METRE).round() as i128;
+    pub fn observe_bound(&mut self, bound: f64) {
+        self.bound_sum += fixed(bound);
+        self.bound_count += 1;
+    }
+
+    /// Adds an exact distance `d` at a sample whose control bound is `bound` to the mean estimate.
+    #[inline]
+    pub fn observe_mean(&mut self, d: f64, bound: f64) {
+        self.sum += fixed(d);
+        self.sum_sq += fixed(d * d);
+        self.ctl_sum += fixed(bound);
+        self.ctl_sq += fixed(bound * bound);
+        self.ctl_cross += fixed(d * bound);
         self.mean_count += 1;
     }
 
-    /// The mean of the distances added, or NaN when none were.
-    pub fn mean(&self) -> f64 {
-        if self.mean_count == 0 {
-            f64::NAN
-        } else {
-            self.sum as f64 / SUM_UNITS_PER_METRE / self.mean_count as f64
-        }
+    /// Means of d, L, d^2, L^2, dL over the mean samples.
+    fn moments(&self) -> [f64; 5] {
+        let m = self.mean_count as f64;
+        [
+            self.sum,
+            self.ctl_sum,
+            self.sum_sq,
+            self.ctl_sq,
+            self.ctl_cross,
+        ]
+        .map(|x| x as f64 / SUM_UNITS_PER_METRE / m)
     }
 
-    /// The standard deviation of the distances added (0 for fewer than two).
+    /// Regression coefficient of the distance on the control bound over the mean samples, and the
+    /// residual variance (of the distance minus its regression on the bound).
+    fn regression(&self) -> (f64, f64) {
+        let [d, l, d2, l2, dl] = self.moments();
+        let var_d = (d2 - d * d).max(0.0);
+        let var_l = (l2 - l * l).max(0.0);
+        let cov = dl - d * l;
+        if self.bound_count == 0 || var_l <= 1e-18 {
+            return (0.0, var_d);
+        }
+        let beta = cov / var_l;
+        (beta, (var_d - cov * cov / var_l).max(0.0))
+    }
+
+    /// The mean distance, by a regression (control-variate) estimator: the mean of the exact
+    /// distances over the first `mean_count` samples, corrected by how far the control bound's mean
+    /// over those samples is from its exact mean over every sample. The bound follows the distance,
+    /// so the estimate is far less noisy than the plain subsample mean, and exact when every sample
+    /// entered. NaN when nothing was added.
+    pub fn mean(&self) -> f64 {
+        if self.mean_count == 0 {
+            return f64::NAN;
+        }
+        let [d, l, ..] = self.moments();
+        if self.bound_count == 0 || self.mean_count < 2 {
+            return d;
+        }
+        let bound_mean = self.bound_sum as f64 / SUM_UNITS_PER_METRE / self.bound_count as f64;
+        let (beta, _) = self.regression();
+        d - beta * (l - bound_mean)
+    }
+
+    /// The residual standard deviation the error of [`PairStats::mean`] scales with (0 for fewer
+    /// than two samples).
     pub fn std(&self) -> f64 {
         if self.mean_count < 2 {
             return 0.0;
         }
         let n = self.mean_count as f64;
-        let mean = self.mean();
-        let var = self.sum_sq as f64 / SUM_UNITS_PER_METRE / n - mean * mean;
-        (var.max(0.0) * n / (n - 1.0)).sqrt()
+        (self.regression().1 * n / (n - 1.0)).sqrt()
     }
 
     /// Combines the statistics of two disjoint sample sets.
@@ -114,6 +186,11 @@ impl PairStats {
         self.sum += o.sum;
         self.sum_sq += o.sum_sq;
         self.mean_count += o.mean_count;
+        self.ctl_sum += o.ctl_sum;
+        self.ctl_sq += o.ctl_sq;
+        self.ctl_cross += o.ctl_cross;
+        self.bound_sum += o.bound_sum;
+        self.bound_count += o.bound_count;
         self.collisions += o.collisions;
     }
 }
@@ -165,14 +242,16 @@ mod tests {
         let mut all = PairStats::default();
         for (k, d) in ds.iter().enumerate() {
             all.observe_extremes(*d, k as u64);
-            all.observe_mean(*d);
+            all.observe_mean(*d, 0.5 * *d);
+            all.observe_bound(0.5 * *d);
         }
         let mut a = PairStats::default();
         let mut b = PairStats::default();
         for (k, d) in ds.iter().enumerate() {
             let s = if k % 2 == 0 { &mut a } else { &mut b };
             s.observe_extremes(*d, k as u64);
-            s.observe_mean(*d);
+            s.observe_mean(*d, 0.5 * *d);
+            s.observe_bound(0.5 * *d);
         }
         let mut ab = a;
         ab.merge(&b);
@@ -182,5 +261,26 @@ mod tests {
         assert_eq!(ba, all);
         assert_eq!(all.min_sample, 1, "ties go to the first sample");
         assert!((all.mean() - ds.iter().sum::<f64>() / 7.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn control_bound_corrects_a_subsample_mean() {
+        // d = bound + small noise: the subsample's bias in the bound is corrected by its exact mean.
+        let n = 4000;
+        let bound = |k: usize| ((k * 7919) % 1000) as f64 * 1e-4;
+        let noise = |k: usize| ((k * 104_729) % 11) as f64 * 1e-6;
+        let d = |k: usize| bound(k) + noise(k);
+        let exact = (0..n).map(d).sum::<f64>() / n as f64;
+        let mut st = PairStats::default();
+        for k in 0..n {
+            st.observe_bound(bound(k));
+            if k < 200 {
+                st.observe_mean(d(k), bound(k));
+            }
+        }
+        let plain = (0..200).map(d).sum::<f64>() / 200.0;
+        assert!((st.mean() - exact).abs() < 1e-6, "{} vs {exact}", st.mean());
+        assert!((plain - exact).abs() > 10.0 * (st.mean() - exact).abs());
+        assert!(st.std() < 1e-5, "residual std {}", st.std());
     }
 }
