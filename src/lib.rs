@@ -1,12 +1,14 @@
 //! scm: robot self-collision matrices. The library holds every stage (`preprocess`, ...) so the CLI,
 //! the viewer, tests and benchmarks all call the same code.
 
+pub mod bench;
 pub mod collision;
 pub mod error;
 pub mod math;
 pub mod mesh;
 pub mod preprocess;
 pub mod progress;
+pub mod query;
 pub mod robot;
 pub mod sample;
 pub mod shapes;

@@ -3,7 +3,10 @@
 pub mod args;
 mod progress;
 
-use args::{Cli, Command, PreprocessArgs, RunArgs, SampleArgs, SamplingArgs, ShapeArgs, ViewArgs};
+use args::{
+    BenchArgs, Cli, Command, PreprocessArgs, RunArgs, SampleArgs, SamplingArgs, ShapeArgs, ViewArgs,
+};
+use scm::bench::{BenchOptions, BenchReport, bench};
 use scm::error::{Error, Result};
 use scm::preprocess::{PreprocessOptions, PreprocessReport, preprocess};
 use scm::robot::PackagePaths;
@@ -18,6 +21,7 @@ pub fn run(cli: &Cli) -> Result<()> {
         Command::Sample(args) => run_sample(cli, args),
         Command::Run(args) => run_all(cli, args),
         Command::View(args) => run_view(args),
+        Command::Bench(args) => run_bench(cli, args),
     }
 }
 
@@ -222,6 +226,37 @@ fn print_sample(cli: &Cli, r: &SampleReport) {
             s.overturned
         );
     }
+}
+
+/// `scm bench`: time queries with and without skips, and check the skips against the meshes.
+fn run_bench(cli: &Cli, args: &BenchArgs) -> Result<()> {
+    let mut opts = BenchOptions::new(&args.urdd);
+    opts.configs = args.configs as usize;
+    opts.repeats = args.repeats;
+    opts.truth_configs = args.truth_configs as usize;
+    opts.seed = args.seed;
+    for id in &args.types {
+        let t = args::parse_shape_type(id.trim()).map_err(|m| bad_flag("--types", m))?;
+        if !opts.types.contains(&t) {
+            opts.types.push(t);
+        }
+    }
+    opts.types.sort();
+    let report = bench(&opts, &progress::Bar::new(cli.quiet))?;
+    if cli.json {
+        print_json(&report);
+    } else {
+        print_bench(&report);
+    }
+    Ok(())
+}
+
+fn print_bench(r: &BenchReport) {
+    print!("{}", scm::bench::render(r));
+    println!(
+        "\nwrote {}",
+        r.urdd.join(scm::bench::BENCH).join("bench.md").display()
+    );
 }
 
 /// `scm view`: launch the viewer binary found next to this executable or on PATH.
