@@ -5,6 +5,7 @@ pub mod bench;
 pub mod collision;
 pub mod error;
 pub mod math;
+pub mod matrix;
 pub mod mesh;
 pub mod preprocess;
 pub mod progress;

@@ -184,6 +184,7 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
             folder: PREPROCESS.into(),
             outputs,
             summary,
+            depends_on: Default::default(),
         },
     )?;
     Ok(out)

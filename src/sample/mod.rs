@@ -309,6 +309,7 @@ fn write_stage(
     }
     stage.commit()?;
     let robot = urdd.manifest().robot.clone();
+    let preprocess_key = urdd.stage(PREPROCESS)?.key.clone();
     let summary: BTreeMap<ShapeType, TypeSummary> = files
         .iter()
         .map(|f| (f.shape_type, f.summary.clone()))
@@ -324,6 +325,7 @@ fn write_stage(
             folder: SAMPLE.into(),
             outputs,
             summary: serde_json::to_value(summary).unwrap_or_default(),
+            depends_on: [(PREPROCESS.to_string(), preprocess_key)].into(),
         },
     )
 }

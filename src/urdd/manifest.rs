@@ -38,6 +38,10 @@ pub struct StageRecord {
     pub outputs: Vec<String>,
     /// A small stage-specific summary (counts), for humans and scripts.
     pub summary: serde_json::Value,
+    /// The keys of the stages this one read, as they were when it ran; a different key now means this
+    /// stage's output is stale.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub depends_on: BTreeMap<String, String>,
 }
 
 /// An input file and its content hash.

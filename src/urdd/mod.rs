@@ -104,6 +104,25 @@ impl Urdd {
         })
     }
 
+    /// The record of stage `name`, which must be current: every stage it read still has the key it
+    /// had then. A missing or stale stage is bad input saying which command to rerun.
+    pub fn fresh_stage(&self, name: &str) -> Result<&StageRecord> {
+        let record = self.stage(name)?;
+        for (dep, key) in &record.depends_on {
+            if self.manifest.stages.get(dep).is_none_or(|d| &d.key != key) {
+                return Err(Error::input(
+                    &self.dir.join(MANIFEST),
+                    format!("stage \"{name}\""),
+                    format!(
+                        "stale: stage \"{dep}\" changed since it ran; rerun `scm {name} {}`",
+                        self.dir.display()
+                    ),
+                ));
+            }
+        }
+        Ok(record)
+    }
+
     /// Whether stage `name` ran with `key` and all its output files are present.
     pub fn is_up_to_date(&self, name: &str, key: &str) -> bool {
         self.manifest.stages.get(name).is_some_and(|s| {
