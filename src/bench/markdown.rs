@@ -52,13 +52,24 @@ pub fn render(r: &BenchReport) -> String {
     let _ = writeln!(
         s,
         "\n## Verdict with skips against the exact meshes (table 3)\n\n{configs} configurations; \
-         ground truth: the original link meshes of the {} non-adjacent link pairs, checked exactly \
-         (surface intersection or containment), collide in {} of them ({}). Per type, the share \
+         ground truth: the original link meshes of {} link pairs (not adjacent, not in contact at \
+         home{}), checked exactly (surface intersection or containment), collide in {} of them \
+         ({}). Per type, the share \
          of configurations where: the meshes collide but the type reports nothing (*false neg.*); \
          a pair skipped for a reason hides a real collision (*hidden by*); the type's shapes miss \
          a mesh collision even with no skips (*missed*); the type reports a collision the meshes do \
          not have (*false pos.*, and *spurious pair*: some reported link pair is not in collision).\n",
         r.truth_pairs,
+        if r.truth_at_home.is_empty() {
+            String::new()
+        } else {
+            let pairs: Vec<String> = r
+                .truth_at_home
+                .iter()
+                .map(|[a, b]| format!("{a}/{b}"))
+                .collect();
+            format!(": {} pairs left out, {}", pairs.len(), pairs.join(", "))
+        },
         mesh,
         pct(mesh, configs)
     );

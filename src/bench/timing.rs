@@ -55,9 +55,13 @@ fn run(checker: &SelfChecker, kind: QueryKind, configs: &[Vec<f64>], scratch: &m
     start.elapsed().as_secs_f64()
 }
 
-/// Times `kind` with skips against without, `repeats` times over `configs` (single thread; each
-/// repeat runs both checkers back to back, after one untimed warm-up pass each). `tick` is called
-/// after every repeat.
+/// Configurations per timed batch: the two checkers alternate batch by batch, so a change in machine
+/// load during a repeat affects both sides of the ratio alike.
+const BATCH: usize = 250;
+
+/// Times `kind` with skips against without, `repeats` times over `configs` (single thread, after one
+/// untimed warm-up pass each; within a repeat the checkers alternate every [`BATCH`] configurations).
+/// `tick` is called after every repeat.
 pub fn time_query(
     skips: &SelfChecker,
     no_skips: &SelfChecker,
@@ -72,8 +76,11 @@ pub fn time_query(
     let per_query = 1e6 / configs.len().max(1) as f64;
     let (mut ratios, mut with, mut without) = (Vec::new(), Vec::new(), Vec::new());
     for _ in 0..repeats {
-        let s = run(skips, kind, configs, &mut scratch);
-        let a = run(no_skips, kind, configs, &mut scratch);
+        let (mut s, mut a) = (0.0, 0.0);
+        for batch in configs.chunks(BATCH) {
+            s += run(skips, kind, batch, &mut scratch);
+            a += run(no_skips, kind, batch, &mut scratch);
+        }
         ratios.push(s / a);
         with.push(s * per_query);
         without.push(a * per_query);

@@ -4,14 +4,19 @@
 //! What counts: two links collide when their meshes' surfaces intersect (parry's triangle-mesh
 //! intersection test, exact up to floating point) or when one mesh lies entirely inside the other (a
 //! vertex of one is inside the other by its generalized winding number, which stays meaningful for
-//! meshes that are not watertight). Only pairs of different, non-adjacent links with geometry are
-//! checked: adjacent links' meshes touch or overlap at their joint by design, which is why every
-//! collision matrix (MoveIt's included) skips them, so counting them would make every configuration a
-//! collision.
+//! meshes that are not watertight).
+//!
+//! Which link pairs count: pairs of different links with geometry that are not adjacent and whose
+//! meshes do not collide at the home configuration. Adjacent links' meshes touch or overlap at their
+//! joint, and links whose meshes already overlap at home are built into each other (a motor housing
+//! inside a trunk box); these are design contacts, not self-collisions, which is why MoveIt's rules
+//! skip them too (`Adjacent`, `Default`). Counting them would make nearly every configuration a
+//! collision (on B1, every one).
 
 use crate::error::{Error, Result};
 use crate::math::{Pose, Vec3};
 use crate::preprocess::{link_mesh, load_meshes};
+use crate::robot::Kinematics;
 use crate::shapes::minimal_bounding_sphere;
 use crate::urdd::Urdd;
 use parry3d_f64::bounding_volume::BoundingVolume;
@@ -30,8 +35,11 @@ struct LinkMesh {
 /// The meshes of every link with geometry and the link pairs the ground truth checks.
 pub struct MeshTruth {
     links: Vec<Option<LinkMesh>>,
-    /// Pairs `(a, b)`, `a < b`, of non-adjacent links that both have geometry.
+    /// Pairs `(a, b)`, `a < b`, of non-adjacent links that both have geometry and whose meshes do not
+    /// collide at home.
     pairs: Vec<(usize, usize)>,
+    /// Non-adjacent pairs whose meshes collide at home (left out).
+    at_home: Vec<(usize, usize)>,
 }
 
 impl std::fmt::Debug for MeshTruth {
@@ -83,7 +91,21 @@ impl MeshTruth {
             .filter(|&(a, b)| links[a].is_some() && links[b].is_some())
             .filter(|&(a, b)| !adjacent.contains(&(a, b)) && !adjacent.contains(&(b, a)))
             .collect();
-        Ok(MeshTruth { links, pairs })
+        let mut truth = MeshTruth {
+            links,
+            pairs,
+            at_home: Vec::new(),
+        };
+        let kinematics = Kinematics::new(robot);
+        let home = kinematics.link_poses(&kinematics.home());
+        truth.at_home = truth.colliding(&home);
+        truth.pairs.retain(|p| !truth.at_home.contains(p));
+        Ok(truth)
+    }
+
+    /// Non-adjacent link pairs left out because their meshes collide at the home configuration.
+    pub fn at_home(&self) -> &[(usize, usize)] {
+        &self.at_home
     }
 
     /// The link pairs the ground truth checks.
@@ -193,6 +215,7 @@ mod tests {
         let truth = MeshTruth {
             links: vec![Some(big), Some(small)],
             pairs: vec![(0, 1)],
+            at_home: Vec::new(),
         };
         let at = |x: f64| {
             [

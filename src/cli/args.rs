@@ -97,18 +97,18 @@ pub struct ViewArgs {
 pub struct BenchArgs {
     /// The URDD directory (after `scm sample`).
     pub urdd: PathBuf,
-    /// Fresh random configurations timed per type.
-    #[arg(long, short = 'm', default_value_t = 2000, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
-    pub configs: u64,
-    /// Timing repeats (the ratios are mean +- std over them).
-    #[arg(long, short = 'r', default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
-    pub repeats: u32,
-    /// Fresh random configurations checked against the exact meshes (table 3).
-    #[arg(long, default_value_t = 2000, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
-    pub truth_configs: u64,
-    /// Random seed of the configurations (drawn from a stream sampling never uses).
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
+    /// Fresh random configurations timed per type [default: 5000].
+    #[arg(long, short = 'm', value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    pub configs: Option<u64>,
+    /// Timing repeats; the ratios are mean +- std over them [default: 5].
+    #[arg(long, short = 'r', value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub repeats: Option<u32>,
+    /// Fresh random configurations checked against the exact meshes (table 3) [default: 2000].
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    pub truth_configs: Option<u64>,
+    /// Random seed of the configurations, drawn from a stream sampling never uses [default: 1].
+    #[arg(long)]
+    pub seed: Option<u64>,
     /// Shape types to measure (comma-separated ids); default every sampled type.
     #[arg(long, value_delimiter = ',')]
     pub types: Vec<String>,

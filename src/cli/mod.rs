@@ -231,10 +231,18 @@ fn print_sample(cli: &Cli, r: &SampleReport) {
 /// `scm bench`: time queries with and without skips, and check the skips against the meshes.
 fn run_bench(cli: &Cli, args: &BenchArgs) -> Result<()> {
     let mut opts = BenchOptions::new(&args.urdd);
-    opts.configs = args.configs as usize;
-    opts.repeats = args.repeats;
-    opts.truth_configs = args.truth_configs as usize;
-    opts.seed = args.seed;
+    if let Some(m) = args.configs {
+        opts.configs = m as usize;
+    }
+    if let Some(r) = args.repeats {
+        opts.repeats = r;
+    }
+    if let Some(m) = args.truth_configs {
+        opts.truth_configs = m as usize;
+    }
+    if let Some(s) = args.seed {
+        opts.seed = s;
+    }
     for id in &args.types {
         let t = args::parse_shape_type(id.trim()).map_err(|m| bad_flag("--types", m))?;
         if !opts.types.contains(&t) {

@@ -82,7 +82,8 @@ pub struct Proximity {
 
 impl SelfChecker {
     /// Loads the robot and the shapes of type `t` from a URDD. With [`SkipMode::Skips`] the pairs the
-    /// sample stage marks as skippable are left out (the sample stage must be present for `t`).
+    /// effective skip matrix skips are left out (inferred by sampling, with the imported and user
+    /// layers applied; the sample stage must be current and include `t`).
     pub fn load(urdd: &Urdd, t: ShapeType, mode: SkipMode) -> Result<SelfChecker> {
         let robot = urdd.robot()?.robot;
         let set = ShapeSet::load(urdd, t, robot.links.len())?;
@@ -161,9 +162,7 @@ impl SelfChecker {
         if a == b || b >= n {
             return None;
         }
-        // Row-major index of (a, b) among pairs a < b.
-        let index = a * n - a * (a + 1) / 2 + (b - a - 1);
-        self.reasons[index].as_deref()
+        self.reasons[crate::matrix::pair_index(n, a, b)].as_deref()
     }
 
     /// Working memory sized for this checker.
