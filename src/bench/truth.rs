@@ -2,7 +2,8 @@
 //! against each other at a configuration.
 //!
 //! What counts: two links collide when their meshes' surfaces intersect (parry's triangle-mesh
-//! intersection test, exact up to floating point) or when one mesh lies entirely inside the other (a
+//! intersection test: a bounding-volume traversal, then a GJK test per pair of overlapping triangles,
+//! with no approximating shape in between) or when one mesh lies entirely inside the other (a
 //! vertex of one is inside the other by its generalized winding number, which stays meaningful for
 //! meshes that are not watertight).
 //!
