@@ -28,6 +28,8 @@ use std::path::Path;
 /// One link's original geometry, ready for exact tests.
 struct LinkMesh {
     mesh: TriMesh,
+    /// One vertex of each of the link's geometry elements (each is one connected part, as a rule).
+    probes: Vec<Vec3>,
     /// Bounding sphere in the link frame.
     center: Vec3,
     radius: f64,
@@ -69,7 +71,21 @@ impl MeshTruth {
         let meshes = load_meshes(robot, &urdf)?;
         let mut links = Vec::with_capacity(robot.links.len());
         for link in &robot.links {
-            let soup = link_mesh(link, &meshes);
+            // The link's elements one by one, remembering where each starts: one probe vertex per
+            // element for the containment test.
+            let mut soup = crate::mesh::TriMesh::default();
+            let mut probes = Vec::new();
+            for g in &link.geometry {
+                let single = crate::robot::Link {
+                    geometry: vec![g.clone()],
+                    ..link.clone()
+                };
+                let part = link_mesh(&single, &meshes);
+                if let Some(&v) = part.vertices.first() {
+                    probes.push(v);
+                }
+                soup.append_transformed(&part, &Pose::IDENTITY, Vec3::ONE);
+            }
             if soup.triangles.is_empty() {
                 links.push(None);
                 continue;
@@ -81,6 +97,7 @@ impl MeshTruth {
             })?;
             links.push(Some(LinkMesh {
                 mesh,
+                probes,
                 center: sphere.center,
                 radius: sphere.radius,
             }));
@@ -143,14 +160,14 @@ impl MeshTruth {
     }
 }
 
-/// Whether `a` (posed at `pa`) lies inside `b` (posed at `pb`), given that their surfaces do not
-/// intersect: then either all of `a` is inside `b` or none of it, so one vertex decides.
+/// Whether some part of `a` (posed at `pa`) lies inside `b` (posed at `pb`), given that their surfaces
+/// do not intersect: then each connected part of `a` is wholly inside `b` or wholly outside, so one
+/// vertex per part decides (one per URDF geometry element).
 fn inside(a: &LinkMesh, pa: &Pose, b: &LinkMesh, pb: &Pose) -> bool {
-    let Some(&v) = a.mesh.vertices().first() else {
-        return false;
-    };
-    let p = pb.inverse_transform_point(pa.transform_point(v));
-    b.mesh.local_aabb().contains_local_point(p) && winding_number(&b.mesh, p).abs() > 0.5
+    a.probes.iter().any(|&v| {
+        let p = pb.inverse_transform_point(pa.transform_point(v));
+        b.mesh.local_aabb().contains_local_point(p) && winding_number(&b.mesh, p).abs() > 0.5
+    })
 }
 
 /// The generalized winding number of `mesh` at `p`: 1 inside a closed outward mesh, 0 outside, and a
@@ -204,11 +221,13 @@ mod tests {
     #[test]
     fn containment_counts_as_collision() {
         let big = LinkMesh {
+            probes: vec![Vec3::splat(-1.0)],
             mesh: cube(1.0),
             center: Vec3::ZERO,
             radius: 3f64.sqrt(),
         };
         let small = LinkMesh {
+            probes: vec![Vec3::splat(-0.1)],
             mesh: cube(0.1),
             center: Vec3::ZERO,
             radius: 0.1 * 3f64.sqrt(),
