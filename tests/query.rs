@@ -258,3 +258,33 @@ fn bad_bench_input_is_one_line_and_exit_2() {
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     assert!(err.contains("not sampled"), "{err}");
 }
+
+#[test]
+fn table_3_attributes_hidden_collisions_to_their_skip_reason() {
+    // The demo arm's designed pairs: link2 / shoulder_stop collide except near joint2 = 0 (`always`);
+    // link1 / link3 and the closed fingers are in contact at home (`default`, design contacts).
+    let dir = common::preprocessed(&common::demo_urdf(), "bench-demo");
+    let mut opts = SampleOptions::new(&dir);
+    opts.samples = 2000;
+    opts.types = vec![ShapeType::Hull];
+    sample(&opts, &NoProgress).unwrap();
+    let mut opts = BenchOptions::new(&dir);
+    opts.configs = 20;
+    opts.repeats = 1;
+    opts.truth_configs = 200;
+    let report = bench(&opts, &NoProgress).unwrap();
+    let left_out = |a: &str, b: &str| {
+        report
+            .truth_at_home
+            .iter()
+            .any(|[x, y]| (x == a && y == b) || (x == b && y == a))
+    };
+    assert!(left_out("link1", "link3"), "{:?}", report.truth_at_home);
+    assert!(left_out("finger_left", "finger_right"));
+    assert!(!left_out("link2", "shoulder_stop"), "clear at home");
+    let a = &report.types[0].accuracy;
+    let always = a.hidden["always"];
+    assert!(always >= 150, "link2 / shoulder_stop meshes collide in most configurations: {a:?}");
+    assert!(a.mesh_collisions >= always && a.false_negatives <= always);
+    assert_eq!(a.missed_by_shapes, 0, "hulls contain the meshes");
+}
