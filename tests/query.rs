@@ -284,7 +284,10 @@ fn table_3_attributes_hidden_collisions_to_their_skip_reason() {
     assert!(!left_out("link2", "shoulder_stop"), "clear at home");
     let a = &report.types[0].accuracy;
     let always = a.hidden["always"];
-    assert!(always >= 150, "link2 / shoulder_stop meshes collide in most configurations: {a:?}");
+    assert!(
+        always >= 150,
+        "link2 / shoulder_stop meshes collide in most configurations: {a:?}"
+    );
     assert!(a.mesh_collisions >= always && a.false_negatives <= always);
     assert_eq!(a.missed_by_shapes, 0, "hulls contain the meshes");
 }

@@ -60,7 +60,7 @@ fn run(checker: &SelfChecker, kind: QueryKind, configs: &[Vec<f64>], scratch: &m
 const BATCH: usize = 250;
 
 /// Times `kind` with skips against without, `repeats` times over `configs` (single thread, after one
-/// untimed warm-up pass each; within a repeat the checkers alternate every [`BATCH`] configurations).
+/// untimed warm-up pass each; within a repeat the checkers alternate every 250 configurations).
 /// `tick` is called after every repeat.
 pub fn time_query(
     skips: &SelfChecker,
