@@ -3,7 +3,11 @@
 
 pub mod bench;
 pub mod collision;
+pub mod compare;
 pub mod error;
+pub mod export;
+pub mod formats;
+pub mod import;
 pub mod math;
 pub mod matrix;
 pub mod mesh;

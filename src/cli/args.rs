@@ -25,7 +25,13 @@ pub enum Command {
     Preprocess(PreprocessArgs),
     /// Sample random joint configurations: per-pair distance statistics and skip reasons for every type.
     Sample(SampleArgs),
-    /// Preprocess and sample in one call; each stage is skipped when it is up to date.
+    /// Write the skip matrices (six JSON + YAML files) and the files MoveIt, MuJoCo, cuRobo, Drake load.
+    Export(ExportArgs),
+    /// Import a MoveIt SRDF's disabled collision pairs as the URDD's imported layer.
+    ImportMoveit(ImportMoveitArgs),
+    /// Compare scm's verdicts with a MoveIt SRDF's (the imported one by default), with evidence.
+    Diff(DiffArgs),
+    /// Preprocess, sample and export in one call; each stage is skipped when it is up to date.
     Run(RunArgs),
     /// Open the interactive viewer on a URDD (needs the scm-viewer binary).
     View(ViewArgs),
@@ -49,7 +55,7 @@ pub struct PreprocessArgs {
     pub force: bool,
 }
 
-/// `scm run`: preprocess and sample, each skipped when up to date.
+/// `scm run`: preprocess, sample and export, each skipped when up to date.
 #[derive(Debug, Args)]
 pub struct RunArgs {
     /// The robot's URDF file.
@@ -63,6 +69,9 @@ pub struct RunArgs {
     /// Sampling.
     #[command(flatten)]
     pub sampling: SamplingArgs,
+    /// Export.
+    #[command(flatten)]
+    pub export: ExportFlags,
     /// Recompute every stage even if up to date.
     #[arg(long)]
     pub force: bool,
@@ -83,6 +92,68 @@ pub struct ShapeArgs {
     /// Voxel resolution of the convex decomposition.
     #[arg(long, default_value_t = 40, value_parser = clap::value_parser!(u32).range(8..=256))]
     pub decomp_resolution: u32,
+}
+
+/// `scm export`.
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// The URDD directory (after `scm sample`).
+    pub urdd: PathBuf,
+    /// Output folder (default DIR/export); replaced as a whole, atomically.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Export.
+    #[command(flatten)]
+    pub export: ExportFlags,
+    /// Rewrite even if up to date.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// Flags of the export stage.
+#[derive(Debug, Args)]
+pub struct ExportFlags {
+    /// Formats to write (comma-separated): matrices, srdf, mjcf, curobo, drake, paper; default all.
+    #[arg(long, value_delimiter = ',', value_parser = parse_format)]
+    pub format: Vec<scm::export::Format>,
+    /// The type whose link-level matrix the SRDF, MJCF, cuRobo and Drake files describe.
+    #[arg(long, default_value = "hull", value_parser = parse_shape_type)]
+    pub link_type: scm::shapes::ShapeType,
+    /// The sphere type of cuRobo's collision_spheres.
+    #[arg(long, default_value = "decomp-sphere", value_parser = parse_shape_type)]
+    pub sphere_type: scm::shapes::ShapeType,
+    /// Replace only the <disable_collisions> of this existing SRDF (groups, states, comments kept);
+    /// the result is written to the export folder.
+    #[arg(long, value_name = "SRDF")]
+    pub merge_into: Option<PathBuf>,
+}
+
+/// `scm import-moveit`.
+#[derive(Debug, Args)]
+pub struct ImportMoveitArgs {
+    /// The MoveIt SRDF.
+    pub srdf: PathBuf,
+    /// The URDD directory (after `scm preprocess`).
+    pub urdd: PathBuf,
+    /// Also print the comparison with scm's verdicts (as `scm diff`).
+    #[arg(long)]
+    pub compare: bool,
+    /// The link-level type of the comparison.
+    #[arg(long = "type", default_value = "hull", value_parser = parse_shape_type)]
+    pub shape_type: scm::shapes::ShapeType,
+}
+
+/// `scm diff`.
+#[derive(Debug, Args)]
+pub struct DiffArgs {
+    /// The URDD directory (after `scm sample`).
+    pub urdd: PathBuf,
+    /// The SRDF to compare with (default: the imported one).
+    #[arg(long)]
+    pub srdf: Option<PathBuf>,
+    /// The link-level type standing for scm.
+    #[arg(long = "type", default_value = "hull", value_parser = parse_shape_type)]
+    pub shape_type: scm::shapes::ShapeType,
 }
 
 /// `scm view`.
@@ -168,5 +239,12 @@ pub fn parse_shape_type(s: &str) -> Result<scm::shapes::ShapeType, String> {
     scm::shapes::ShapeType::from_id(s).ok_or_else(|| {
         let ids: Vec<&str> = scm::shapes::ShapeType::ALL.iter().map(|t| t.id()).collect();
         format!("unknown shape type \"{s}\" (one of {})", ids.join(", "))
+    })
+}
+
+fn parse_format(s: &str) -> Result<scm::export::Format, String> {
+    scm::export::Format::from_id(s).ok_or_else(|| {
+        let ids: Vec<&str> = scm::export::Format::ALL.iter().map(|f| f.id()).collect();
+        format!("unknown format \"{s}\" (one of {})", ids.join(", "))
     })
 }

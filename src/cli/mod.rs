@@ -4,10 +4,14 @@ pub mod args;
 mod progress;
 
 use args::{
-    BenchArgs, Cli, Command, PreprocessArgs, RunArgs, SampleArgs, SamplingArgs, ShapeArgs, ViewArgs,
+    BenchArgs, Cli, Command, DiffArgs, ExportArgs, ExportFlags, ImportMoveitArgs, PreprocessArgs,
+    RunArgs, SampleArgs, SamplingArgs, ShapeArgs, ViewArgs,
 };
 use scm::bench::{BenchOptions, BenchReport, bench};
+use scm::compare::{CompareOptions, compare, format_comparison};
 use scm::error::{Error, Result};
+use scm::export::{ExportOptions, ExportReport, export};
+use scm::import::{ImportOptions, import_moveit};
 use scm::preprocess::{PreprocessOptions, PreprocessReport, preprocess};
 use scm::robot::PackagePaths;
 use scm::sample::{SampleOptions, SampleReport, Shard, merge_shards, sample};
@@ -19,6 +23,9 @@ pub fn run(cli: &Cli) -> Result<()> {
     match &cli.command {
         Command::Preprocess(args) => run_preprocess(cli, args),
         Command::Sample(args) => run_sample(cli, args),
+        Command::Export(args) => run_export(cli, args),
+        Command::ImportMoveit(args) => run_import(cli, args),
+        Command::Diff(args) => run_diff(cli, args),
         Command::Run(args) => run_all(cli, args),
         Command::View(args) => run_view(args),
         Command::Bench(args) => run_bench(cli, args),
@@ -105,6 +112,28 @@ fn sample_options(urdd: &Path, s: &SamplingArgs, force: bool) -> Result<SampleOp
     Ok(opts)
 }
 
+/// Lowers the export flags into library options.
+fn export_options(
+    urdd: &Path,
+    out: Option<PathBuf>,
+    e: &ExportFlags,
+    force: bool,
+) -> ExportOptions {
+    let mut opts = ExportOptions::new(urdd);
+    opts.out = out;
+    if !e.format.is_empty() {
+        let mut formats = e.format.clone();
+        formats.sort();
+        formats.dedup();
+        opts.formats = formats;
+    }
+    opts.link_type = e.link_type;
+    opts.sphere_type = e.sphere_type;
+    opts.merge_into = e.merge_into.clone();
+    opts.force = force;
+    opts
+}
+
 /// `scm preprocess`: build the six shape representations into the URDD.
 fn run_preprocess(cli: &Cli, args: &PreprocessArgs) -> Result<()> {
     let opts = preprocess_options(&args.urdf, &args.output, &args.shapes, args.force)?;
@@ -143,18 +172,97 @@ fn run_sample(cli: &Cli, args: &SampleArgs) -> Result<()> {
     Ok(())
 }
 
-/// `scm run`: preprocess, then sample; each stage does nothing when up to date.
+/// `scm run`: preprocess, sample, export; each stage does nothing when up to date.
 fn run_all(cli: &Cli, args: &RunArgs) -> Result<()> {
     let pre = preprocess_options(&args.urdf, &args.output, &args.shapes, args.force)?;
     let sampling = sample_options(&args.output, &args.sampling, args.force)?;
+    let exporting = export_options(&args.output, None, &args.export, args.force);
     let bar = progress::Bar::new(cli.quiet);
     let pre_report = preprocess(&pre, &bar)?;
     let sample_report = sample(&sampling, &bar)?;
+    let export_report = export(&exporting, &bar)?;
     if cli.json {
-        print_json(&serde_json::json!({ "preprocess": pre_report, "sample": sample_report }));
+        print_json(&serde_json::json!({
+            "preprocess": pre_report,
+            "sample": sample_report,
+            "export": export_report,
+        }));
     } else {
         print_preprocess(cli, &pre_report);
         print_sample(cli, &sample_report);
+        print_export(cli, &export_report);
+    }
+    Ok(())
+}
+
+/// `scm export`: write the matrices and the consumer files.
+fn run_export(cli: &Cli, args: &ExportArgs) -> Result<()> {
+    let opts = export_options(&args.urdd, args.output.clone(), &args.export, args.force);
+    let report = export(&opts, &progress::Bar::new(cli.quiet))?;
+    if cli.json {
+        print_json(&report);
+    } else {
+        print_export(cli, &report);
+    }
+    Ok(())
+}
+
+/// `scm import-moveit`: store an SRDF as the imported layer (and optionally compare).
+fn run_import(cli: &Cli, args: &ImportMoveitArgs) -> Result<()> {
+    let report = import_moveit(&ImportOptions {
+        srdf: args.srdf.clone(),
+        urdd: args.urdd.clone(),
+    })?;
+    let comparison = if args.compare {
+        Some(compare(&CompareOptions {
+            urdd: args.urdd.clone(),
+            srdf: None,
+            shape_type: args.shape_type,
+        })?)
+    } else {
+        None
+    };
+    if cli.json {
+        print_json(&serde_json::json!({ "import": report, "compare": comparison }));
+        return Ok(());
+    }
+    if !cli.quiet {
+        for w in &report.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    let reasons: Vec<String> = report
+        .reasons
+        .iter()
+        .map(|(r, n)| format!("{} {n}", if r.is_empty() { "(none)" } else { r }))
+        .collect();
+    println!(
+        "{}: imported {} link pairs from {} (disabled: {}; enabled {}; default-disabled links {}); {} warnings",
+        report.urdd.display(),
+        report.stored,
+        report.srdf.display(),
+        reasons.join(", "),
+        report.enabled,
+        report.default_disabled,
+        report.warnings.len()
+    );
+    if let Some(c) = comparison {
+        print!("{}", format_comparison(&c, &args.urdd));
+    }
+    Ok(())
+}
+
+/// `scm diff`: scm's verdicts against MoveIt's.
+fn run_diff(cli: &Cli, args: &DiffArgs) -> Result<()> {
+    let c = compare(&CompareOptions {
+        urdd: args.urdd.clone(),
+        srdf: args.srdf.clone(),
+        shape_type: args.shape_type,
+    })?;
+    if cli.json {
+        print_json(&c);
+    } else {
+        print!("{}", format_comparison(&c, &args.urdd));
     }
     Ok(())
 }
@@ -265,6 +373,37 @@ fn print_bench(r: &BenchReport) {
         "\nwrote {}",
         r.urdd.join(scm::bench::BENCH).join("bench.md").display()
     );
+}
+
+fn print_export(cli: &Cli, r: &ExportReport) {
+    if cli.quiet {
+        return;
+    }
+    if r.up_to_date {
+        println!("{}: export up to date, nothing to do", r.out.display());
+        return;
+    }
+    for n in &r.notes {
+        eprintln!("note: {n}");
+    }
+    println!(
+        "{}: {} files; link level: {} of {} link pairs skipped",
+        r.out.display(),
+        r.files.len(),
+        r.link_pairs.0,
+        r.link_pairs.1
+    );
+    for (t, c) in &r.types {
+        let layers: Vec<String> = c.layers.iter().map(|(l, n)| format!("{l} {n}")).collect();
+        println!(
+            "  {:<13} {:>4} shapes: {} skipped, {} checked ({})",
+            t.id(),
+            c.shapes,
+            c.skipped,
+            c.checked,
+            layers.join(", ")
+        );
+    }
 }
 
 /// `scm view`: launch the viewer binary found next to this executable or on PATH.

@@ -13,7 +13,7 @@ pub const IMPORTED_FILE: &str = "imported.json";
 /// One link pair from the SRDF.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct ImportedPair {
-    /// One link (`link1 <= link2` in the file).
+    /// One link, as written in the SRDF.
     pub link1: String,
     /// The other link.
     pub link2: String,

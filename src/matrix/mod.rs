@@ -5,9 +5,11 @@
 //! rewrites the imported or user layers.
 
 mod imported;
+mod links;
 mod user;
 
 pub use imported::{IMPORTED_FILE, ImportedLayer, ImportedLookup, ImportedPair};
+pub use links::LinkPair;
 pub use user::{USER_FILE, UserEdit, UserLayer};
 
 use crate::error::{Error, Result};

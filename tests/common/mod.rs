@@ -85,3 +85,54 @@ pub fn preprocessed(urdf: &Path, name: &str) -> PathBuf {
         .unwrap_or_else(|e| panic!("{}: {e}", urdf.display()));
     out
 }
+
+/// Preprocesses and samples `urdf` (`samples` configurations, all six types) into a scratch URDD.
+pub fn sampled(urdf: &Path, name: &str, samples: u64) -> PathBuf {
+    let out = preprocessed(urdf, name);
+    let mut opts = scm::sample::SampleOptions::new(&out);
+    opts.samples = samples;
+    scm::sample::sample(&opts, &scm::progress::NoProgress)
+        .unwrap_or_else(|e| panic!("{}: {e}", urdf.display()));
+    out
+}
+
+/// `python3` if it can import every module in `modules`. Without them the test is skipped, except under
+/// `CI=true`, where `.ci/run` installs them and their absence fails the test.
+pub fn python_with(modules: &[&str]) -> Option<&'static str> {
+    let probe = format!("import {}", modules.join(", "));
+    let ok = Command::new("python3")
+        .args(["-c", &probe])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if ok {
+        return Some("python3");
+    }
+    if std::env::var("CI").is_ok_and(|v| v == "true") {
+        panic!("python3 with {modules:?} is required under CI=true (pip install pin mujoco drake)");
+    }
+    eprintln!("skipping: python3 with {modules:?} not available (pip install pin mujoco drake)");
+    None
+}
+
+/// Runs a checker script of `tests/consumers/` and parses its one JSON line.
+pub fn run_consumer(python: &str, script: &str, args: &[&Path]) -> serde_json::Value {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/consumers")
+        .join(script);
+    let out = Command::new(python)
+        .arg(&path)
+        .args(args)
+        .output()
+        .expect("run python3");
+    assert!(
+        out.status.success(),
+        "{script} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "{script}: bad output ({e}): {}",
+            String::from_utf8_lossy(&out.stdout)
+        )
+    })
+}

@@ -1,0 +1,392 @@
+//! The `export` stage: the resolved skip matrices (sampling + imported + user layers) written as the
+//! six matrix files and as the files MoveIt, MuJoCo, cuRobo, Drake and the paper's tool load.
+
+use crate::error::{Error, Result};
+use crate::formats::{curobo, drake, matrices::MatrixFile, mjcf, paper, srdf};
+use crate::matrix::{IMPORTED_FILE, LAYERS, SkipMatrix, USER_FILE};
+use crate::progress::Progress;
+use crate::sample::SAMPLE;
+use crate::shapes::ShapeType;
+use crate::urdd::{StageDir, StageRecord, Urdd, json_bytes, sha256_hex};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Name of the export stage in the manifest, and its default folder.
+pub const EXPORT: &str = "export";
+/// The file in an export folder that lists what the export wrote.
+pub const EXPORT_INDEX: &str = "export.json";
+
+/// An output format of `scm export`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Format {
+    /// The six matrix files, JSON and YAML.
+    Matrices,
+    /// MoveIt SRDF `<disable_collisions>`.
+    Srdf,
+    /// MuJoCo `<contact><exclude>`.
+    Mjcf,
+    /// cuRobo `self_collision_ignore` and `collision_spheres`.
+    Curobo,
+    /// Drake collision filter groups.
+    Drake,
+    /// The paper's URDD modules.
+    Paper,
+}
+
+impl Format {
+    /// Every format, in output order.
+    pub const ALL: [Format; 6] = [
+        Format::Matrices,
+        Format::Srdf,
+        Format::Mjcf,
+        Format::Curobo,
+        Format::Drake,
+        Format::Paper,
+    ];
+
+    /// The id used by `--format`.
+    pub fn id(self) -> &'static str {
+        match self {
+            Format::Matrices => "matrices",
+            Format::Srdf => "srdf",
+            Format::Mjcf => "mjcf",
+            Format::Curobo => "curobo",
+            Format::Drake => "drake",
+            Format::Paper => "paper",
+        }
+    }
+
+    /// The format with this id.
+    pub fn from_id(id: &str) -> Option<Format> {
+        Format::ALL.into_iter().find(|f| f.id() == id)
+    }
+}
+
+/// What to export and where; everything but `force` enters the stage key.
+#[derive(Debug, Clone, Serialize)]
+pub struct ExportOptions {
+    /// The URDD directory.
+    pub urdd: PathBuf,
+    /// The output folder (default `DIR/export`).
+    pub out: Option<PathBuf>,
+    /// Formats to write.
+    pub formats: Vec<Format>,
+    /// The type whose link-level matrix the SRDF, MJCF, cuRobo and Drake files describe.
+    pub link_type: ShapeType,
+    /// The sphere type cuRobo's `collision_spheres` come from.
+    pub sphere_type: ShapeType,
+    /// An existing SRDF whose `<disable_collisions>` the SRDF output replaces (everything else kept).
+    pub merge_into: Option<PathBuf>,
+    /// Rewrite even if up to date.
+    #[serde(skip)]
+    pub force: bool,
+}
+
+impl ExportOptions {
+    /// Every format into `DIR/export`, link level from `hull`, cuRobo spheres from `decomp-sphere`.
+    pub fn new(urdd: &Path) -> ExportOptions {
+        ExportOptions {
+            urdd: urdd.to_path_buf(),
+            out: None,
+            formats: Format::ALL.to_vec(),
+            link_type: ShapeType::Hull,
+            sphere_type: ShapeType::DecompSphere,
+            merge_into: None,
+            force: false,
+        }
+    }
+
+    /// The output folder.
+    pub fn out_dir(&self) -> PathBuf {
+        self.out.clone().unwrap_or_else(|| self.urdd.join(EXPORT))
+    }
+}
+
+/// Per type: how many pairs are skipped and checked, and which layer decided.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct ExportCounts {
+    /// Shapes.
+    pub shapes: usize,
+    /// Pairs a check may skip.
+    pub skipped: usize,
+    /// Pairs that must be checked.
+    pub checked: usize,
+    /// Pairs per deciding layer.
+    pub layers: BTreeMap<String, usize>,
+}
+
+/// What an export did.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ExportReport {
+    /// The URDD directory.
+    pub urdd: PathBuf,
+    /// The output folder.
+    pub out: PathBuf,
+    /// Nothing was done: the output was up to date.
+    pub up_to_date: bool,
+    /// Files written, relative to `out`.
+    pub files: Vec<String>,
+    /// What was left out and why.
+    #[serde(default)]
+    pub notes: Vec<String>,
+    /// Per type counts.
+    pub types: BTreeMap<ShapeType, ExportCounts>,
+    /// Link pairs of the link-level type that are skipped, and in all.
+    pub link_pairs: (usize, usize),
+}
+
+/// Runs the export stage.
+pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportReport> {
+    let mut urdd = Urdd::open(&opts.urdd)?;
+    let sample_key = urdd.fresh_stage(SAMPLE)?.key.clone();
+    let out = opts.out_dir();
+    let key = stage_key(&urdd, opts, &sample_key)?;
+    if !opts.force
+        && urdd.is_up_to_date(EXPORT, &key)
+        && let Some(previous) = read_index(&out)
+    {
+        return Ok(ExportReport {
+            up_to_date: true,
+            ..previous
+        });
+    }
+    guard_foreign_folder(&out)?;
+
+    let robot = urdd.robot()?;
+    let robot_name = robot.robot.name.clone();
+    let sampled: Vec<ShapeType> = ShapeType::ALL
+        .into_iter()
+        .filter(|t| {
+            urdd.stage(SAMPLE)
+                .is_ok_and(|s| s.outputs.contains(&crate::sample::sample_file_name(*t)))
+        })
+        .collect();
+    progress.start("exporting", sampled.len() as u64 + 1);
+    let mut matrices = Vec::new();
+    for t in &sampled {
+        matrices.push(SkipMatrix::load(&urdd, *t)?);
+        progress.advance(1);
+    }
+    let link_matrix = matrices
+        .iter()
+        .find(|m| m.shape_type == opts.link_type)
+        .ok_or_else(|| {
+            Error::input(
+                &opts.urdd.join(SAMPLE),
+                opts.link_type.id(),
+                "the link-level type was not sampled; choose another with --link-type",
+            )
+        })?;
+    let links = link_matrix.links();
+    let link_pairs = link_matrix.link_pairs();
+    let comment = format!(
+        "Written by scm {} from the {} matrix of robot \"{robot_name}\" ({} samples).",
+        crate::VERSION,
+        opts.link_type,
+        link_matrix.samples
+    );
+
+    let stage = StageDir::create(&out)?;
+    let mut files = Vec::new();
+    let mut notes = Vec::new();
+    let mut write = |name: String, bytes: Vec<u8>| -> Result<()> {
+        stage.write(&name, &bytes)?;
+        files.push(name);
+        Ok(())
+    };
+    for format in &opts.formats {
+        match format {
+            Format::Matrices => {
+                for m in &matrices {
+                    let file = MatrixFile::new(&robot_name, m);
+                    write(format!("matrices/{}.json", m.shape_type), file.to_json())?;
+                    let yaml = file.to_yaml().map_err(|e| Error::Failed {
+                        context: format!("{} matrix YAML", m.shape_type),
+                        message: e,
+                    })?;
+                    write(format!("matrices/{}.yaml", m.shape_type), yaml)?;
+                }
+            }
+            Format::Srdf => {
+                let text = match &opts.merge_into {
+                    Some(path) => srdf::merge_into(&read_text(path)?, path, &link_pairs)?,
+                    None => srdf::write_srdf(&robot_name, &comment, &link_pairs),
+                };
+                write(format!("{robot_name}.srdf"), text.into_bytes())?;
+            }
+            Format::Mjcf => write(
+                format!("{robot_name}.mjcf-excludes.xml"),
+                mjcf::write_mjcf(&robot.robot, &comment, &link_pairs).into_bytes(),
+            )?,
+            Format::Curobo => {
+                let spheres = urdd.shapes(opts.sphere_type)?.shapes;
+                write(
+                    format!("{robot_name}.curobo.yml"),
+                    curobo::write_curobo(&comment, &links, &link_pairs, &spheres).into_bytes(),
+                )?;
+            }
+            Format::Drake => write(
+                format!("{robot_name}.drake-filters.xml"),
+                drake::write_drake(&comment, &links, &link_pairs).into_bytes(),
+            )?,
+            Format::Paper if matrices.len() == ShapeType::ALL.len() => {
+                write_paper_modules(&matrices, &mut write)?
+            }
+            Format::Paper => notes.push(
+                "the paper's URDD modules were not written: they need all six shape types sampled"
+                    .into(),
+            ),
+        }
+    }
+    let report = ExportReport {
+        urdd: opts.urdd.clone(),
+        out: out.clone(),
+        up_to_date: false,
+        files,
+        notes,
+        types: matrices.iter().map(|m| (m.shape_type, counts(m))).collect(),
+        link_pairs: (
+            link_pairs.iter().filter(|p| p.entry.skip).count(),
+            link_pairs.len(),
+        ),
+    };
+    stage.write(EXPORT_INDEX, &json_bytes(&report))?;
+    stage.commit()?;
+    progress.advance(1);
+    progress.finish();
+
+    let robot_manifest = urdd.manifest().robot.clone();
+    urdd.record_stage(
+        EXPORT,
+        &robot_manifest,
+        StageRecord {
+            key,
+            tool_version: crate::VERSION.into(),
+            inputs: Vec::new(),
+            parameters: serde_json::to_value(opts).unwrap_or_default(),
+            folder: folder_in(&opts.urdd, &out),
+            outputs: report
+                .files
+                .iter()
+                .cloned()
+                .chain([EXPORT_INDEX.to_string()])
+                .collect(),
+            summary: serde_json::to_value(&report.types).unwrap_or_default(),
+            depends_on: [(SAMPLE.to_string(), sample_key)].into(),
+        },
+    )?;
+    Ok(report)
+}
+
+/// The paper's two modules (all six types).
+fn write_paper_modules(
+    matrices: &[SkipMatrix],
+    write: &mut dyn FnMut(String, Vec<u8>) -> Result<()>,
+) -> Result<()> {
+    let yaml_error = |e: serde_saphyr::SerializeError| Error::Failed {
+        context: "paper module YAML".into(),
+        message: e.to_string(),
+    };
+    let skips = paper::skips_module(matrices);
+    let stats = paper::statistics_module(matrices);
+    for (folder, json, yaml) in [
+        (
+            paper::SKIPS_MODULE,
+            serde_json::to_vec(&skips).unwrap_or_default(),
+            serde_saphyr::to_string(&skips).map_err(yaml_error)?,
+        ),
+        (
+            paper::STATISTICS_MODULE,
+            serde_json::to_vec(&stats).unwrap_or_default(),
+            serde_saphyr::to_string(&stats).map_err(yaml_error)?,
+        ),
+    ] {
+        write(
+            format!("{folder}/VERSION"),
+            paper::VERSION.as_bytes().to_vec(),
+        )?;
+        write(format!("{folder}/module.json"), json)?;
+        write(format!("{folder}/module.yaml"), yaml.into_bytes())?;
+    }
+    Ok(())
+}
+
+fn counts(m: &SkipMatrix) -> ExportCounts {
+    let mut c = ExportCounts {
+        shapes: m.len(),
+        ..ExportCounts::default()
+    };
+    for e in &m.entries {
+        if e.skip {
+            c.skipped += 1;
+        } else {
+            c.checked += 1;
+        }
+        *c.layers.entry(e.layer.id().to_string()).or_default() += 1;
+    }
+    c
+}
+
+/// The key: the sample output it reads, the imported and user layers, a merged SRDF, the options.
+fn stage_key(urdd: &Urdd, opts: &ExportOptions, sample_key: &str) -> Result<String> {
+    let hash_of = |path: &Path| -> Result<Option<String>> {
+        match std::fs::read(path) {
+            Ok(bytes) => Ok(Some(sha256_hex(&bytes))),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(Error::io(path, e)),
+        }
+    };
+    let layers = urdd.dir().join(LAYERS);
+    let merge = match &opts.merge_into {
+        Some(p) => Some(hash_of(p)?.ok_or_else(|| {
+            Error::input(p, "file", "cannot read the SRDF to merge into: not found")
+        })?),
+        None => None,
+    };
+    let mut options = serde_json::to_value(opts).unwrap_or_default();
+    if let Some(m) = options.as_object_mut() {
+        m.remove("urdd");
+    }
+    let material = serde_json::json!({
+        "stage": EXPORT,
+        "tool_version": crate::VERSION,
+        "sample": sample_key,
+        "imported": hash_of(&layers.join(IMPORTED_FILE))?,
+        "user": hash_of(&layers.join(USER_FILE))?,
+        "merge_into": merge,
+        "options": options,
+    });
+    Ok(sha256_hex(&json_bytes(&material)))
+}
+
+/// Refuses to replace a folder that exists, is not empty and was not written by `scm export`.
+fn guard_foreign_folder(out: &Path) -> Result<()> {
+    let non_empty = std::fs::read_dir(out).is_ok_and(|mut d| d.next().is_some());
+    if non_empty && !out.join(EXPORT_INDEX).is_file() {
+        return Err(Error::input(
+            out,
+            "output folder",
+            "exists, is not empty and was not written by `scm export`; choose a new or empty folder",
+        ));
+    }
+    Ok(())
+}
+
+fn read_index(out: &Path) -> Option<ExportReport> {
+    serde_json::from_slice(&std::fs::read(out.join(EXPORT_INDEX)).ok()?).ok()
+}
+
+fn read_text(path: &Path) -> Result<String> {
+    std::fs::read_to_string(path)
+        .map_err(|e| Error::input(path, "file", format!("cannot read: {e}")))
+}
+
+/// `out` relative to the URDD when inside it, else as given.
+fn folder_in(urdd: &Path, out: &Path) -> String {
+    out.strip_prefix(urdd)
+        .unwrap_or(out)
+        .to_string_lossy()
+        .into_owned()
+}
