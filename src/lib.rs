@@ -1,6 +1,7 @@
 //! scm: robot self-collision matrices. The library holds every stage (`preprocess`, ...) so the CLI,
 //! the viewer, tests and benchmarks all call the same code.
 
+pub mod bench;
 pub mod collision;
 pub mod compare;
 pub mod error;
@@ -12,6 +13,7 @@ pub mod matrix;
 pub mod mesh;
 pub mod preprocess;
 pub mod progress;
+pub mod query;
 pub mod robot;
 pub mod sample;
 pub mod shapes;

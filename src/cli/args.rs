@@ -35,6 +35,8 @@ pub enum Command {
     Run(RunArgs),
     /// Open the interactive viewer on a URDD (needs the scm-viewer binary).
     View(ViewArgs),
+    /// Measure queries with skips against without (time) and the skips' verdicts against the meshes.
+    Bench(BenchArgs),
 }
 
 /// `scm preprocess`.
@@ -161,6 +163,28 @@ pub struct ViewArgs {
     pub urdd: PathBuf,
 }
 
+/// `scm bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// The URDD directory (after `scm sample`).
+    pub urdd: PathBuf,
+    /// Fresh random configurations timed per type [default: 5000].
+    #[arg(long, short = 'm', value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    pub configs: Option<u64>,
+    /// Timing repeats; the ratios are mean +- std over them [default: 5].
+    #[arg(long, short = 'r', value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub repeats: Option<u32>,
+    /// Fresh random configurations checked against the exact meshes (table 3) [default: 2000].
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    pub truth_configs: Option<u64>,
+    /// Random seed of the configurations, drawn from a stream sampling never uses [default: 1].
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Shape types to measure (comma-separated ids); default every sampled type.
+    #[arg(long, value_delimiter = ',')]
+    pub types: Vec<String>,
+}
+
 /// `scm sample`.
 #[derive(Debug, Args)]
 pub struct SampleArgs {
@@ -210,7 +234,8 @@ pub struct SamplingArgs {
     pub search_margin: f64,
 }
 
-fn parse_shape_type(s: &str) -> Result<scm::shapes::ShapeType, String> {
+/// Parses a shape type id, naming the valid ones when it is unknown.
+pub fn parse_shape_type(s: &str) -> Result<scm::shapes::ShapeType, String> {
     scm::shapes::ShapeType::from_id(s).ok_or_else(|| {
         let ids: Vec<&str> = scm::shapes::ShapeType::ALL.iter().map(|t| t.id()).collect();
         format!("unknown shape type \"{s}\" (one of {})", ids.join(", "))

@@ -4,9 +4,10 @@ pub mod args;
 mod progress;
 
 use args::{
-    Cli, Command, DiffArgs, ExportArgs, ExportFlags, ImportMoveitArgs, PreprocessArgs, RunArgs,
-    SampleArgs, SamplingArgs, ShapeArgs, ViewArgs,
+    BenchArgs, Cli, Command, DiffArgs, ExportArgs, ExportFlags, ImportMoveitArgs, PreprocessArgs,
+    RunArgs, SampleArgs, SamplingArgs, ShapeArgs, ViewArgs,
 };
+use scm::bench::{BenchOptions, BenchReport, bench};
 use scm::compare::{CompareOptions, compare, format_comparison};
 use scm::error::{Error, Result};
 use scm::export::{ExportOptions, ExportReport, export};
@@ -27,6 +28,7 @@ pub fn run(cli: &Cli) -> Result<()> {
         Command::Diff(args) => run_diff(cli, args),
         Command::Run(args) => run_all(cli, args),
         Command::View(args) => run_view(args),
+        Command::Bench(args) => run_bench(cli, args),
     }
 }
 
@@ -332,6 +334,45 @@ fn print_sample(cli: &Cli, r: &SampleReport) {
             s.overturned
         );
     }
+}
+
+/// `scm bench`: time queries with and without skips, and check the skips against the meshes.
+fn run_bench(cli: &Cli, args: &BenchArgs) -> Result<()> {
+    let mut opts = BenchOptions::new(&args.urdd);
+    if let Some(m) = args.configs {
+        opts.configs = m as usize;
+    }
+    if let Some(r) = args.repeats {
+        opts.repeats = r;
+    }
+    if let Some(m) = args.truth_configs {
+        opts.truth_configs = m as usize;
+    }
+    if let Some(s) = args.seed {
+        opts.seed = s;
+    }
+    for id in &args.types {
+        let t = args::parse_shape_type(id.trim()).map_err(|m| bad_flag("--types", m))?;
+        if !opts.types.contains(&t) {
+            opts.types.push(t);
+        }
+    }
+    opts.types.sort();
+    let report = bench(&opts, &progress::Bar::new(cli.quiet))?;
+    if cli.json {
+        print_json(&report);
+    } else {
+        print_bench(&report);
+    }
+    Ok(())
+}
+
+fn print_bench(r: &BenchReport) {
+    print!("{}", scm::bench::render(r));
+    println!(
+        "\nwrote {}",
+        r.urdd.join(scm::bench::BENCH).join("bench.md").display()
+    );
 }
 
 fn print_export(cli: &Cli, r: &ExportReport) {

@@ -5,8 +5,10 @@
 //! the penetration depth (the shortest translation that separates them) when they overlap.
 
 mod hull_support;
+mod load;
 
 pub use hull_support::HullSupport;
+pub use load::ShapeSet;
 
 use crate::math::{Pose, Vec3};
 use crate::shapes::{ConvexMesh, Geometry};
@@ -133,6 +135,60 @@ pub fn axis_lower_bound(
     let (a0, a1) = a.project(pa, u);
     let (b0, b1) = b.project(pb, u);
     (b0 - a1).max(a0 - b1)
+}
+
+/// Sphere bounds on the signed distance of two shapes whose enclosing-sphere centres are at `outer_a`,
+/// `outer_b` and inscribed-sphere centres at `inner_a`, `inner_b` (world frame): `(lower, upper)`. The
+/// lower bound holds because each shape lies inside its enclosing sphere; the upper bound because each
+/// contains its inscribed sphere, so the spheres' overlap is at most the shapes' penetration depth.
+pub fn sphere_bounds(
+    a: &CollisionShape,
+    outer_a: Vec3,
+    inner_a: Vec3,
+    b: &CollisionShape,
+    outer_b: Vec3,
+    inner_b: Vec3,
+) -> (f64, f64) {
+    (
+        outer_a.distance(outer_b) - a.outer_radius - b.outer_radius,
+        inner_a.distance(inner_b) - a.inner_radius - b.inner_radius,
+    )
+}
+
+/// Whether two posed shapes overlap: the verdict of [`signed_distance`] `<= 0.0`, decided by one GJK
+/// intersection test without computing a distance or penetration depth.
+pub fn intersects(a: &CollisionShape, pa: &Pose, b: &CollisionShape, pb: &Pose) -> bool {
+    if let (Kind::Ball(ba), Kind::Ball(bb)) = (&a.kind, &b.kind) {
+        return pa.translation.distance(pb.translation) <= ba.radius + bb.radius;
+    }
+    let pos12 = pa.inv_mul(pb);
+    query::details::intersection_test_support_map_support_map(
+        &pos12,
+        a.support_map(),
+        b.support_map(),
+    )
+}
+
+/// The witness points of [`signed_distance`] in the world frame: the closest points when the shapes are
+/// apart, the deepest points of the penetration when they overlap. `None` only if GJK and EPA both fail.
+pub fn witness_points(
+    a: &CollisionShape,
+    pa: &Pose,
+    b: &CollisionShape,
+    pb: &Pose,
+) -> Option<(Vec3, Vec3)> {
+    let pos12 = pa.inv_mul(pb);
+    // Any prediction above the true distance makes GJK return the closest points.
+    let contact = query::details::contact_support_map_support_map(
+        &pos12,
+        a.support_map(),
+        b.support_map(),
+        f64::MAX,
+    )?;
+    Some((
+        pa.transform_point(contact.point1),
+        pb.transform_point(contact.point2),
+    ))
 }
 
 /// A sphere inside the hull: centred at the vertex mean, radius the distance to the nearest face plane.

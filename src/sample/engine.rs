@@ -4,8 +4,10 @@
 use super::rng::Rng;
 use super::stats::PairStats;
 use super::table::{self, Table};
-use crate::collision::{CollisionShape, axis_lower_bound, signed_distance};
-use crate::error::{Error, Result};
+use crate::collision::{
+    CollisionShape, ShapeSet, axis_lower_bound, signed_distance, sphere_bounds,
+};
+use crate::error::Result;
 use crate::math::{Pose, Vec3};
 use crate::robot::{Kinematics, Robot};
 use crate::shapes::ShapeType;
@@ -73,31 +75,7 @@ impl Engine {
         let kinematics = Kinematics::new(&robot);
         let mut sets = Vec::new();
         for &t in types {
-            let file = urdd.shapes(t)?;
-            let mut shapes = Vec::with_capacity(file.shapes.len());
-            let mut links = Vec::with_capacity(file.shapes.len());
-            for s in &file.shapes {
-                let geometry = urdd.geometry(&s.geometry)?;
-                let shape = CollisionShape::new(&geometry).ok_or_else(|| {
-                    Error::input(
-                        &urdd
-                            .dir()
-                            .join(crate::urdd::PREPROCESS)
-                            .join(crate::urdd::shape_file_name(t)),
-                        format!("shape {} (link \"{}\")", s.index, s.link),
-                        "degenerate hull",
-                    )
-                })?;
-                if s.link_index >= robot.links.len() {
-                    return Err(Error::input(
-                        urdd.dir(),
-                        format!("{t} shape {}", s.index),
-                        "names a link that robot.json does not have",
-                    ));
-                }
-                shapes.push(shape);
-                links.push(s.link_index);
-            }
+            let ShapeSet { shapes, links, .. } = ShapeSet::load(urdd, t, robot.links.len())?;
             let n = shapes.len() as u32;
             let pairs: Vec<(u32, u32)> = (0..n)
                 .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
@@ -234,10 +212,14 @@ impl Engine {
             let (a, b) = (&set.shapes[i], &set.shapes[j]);
             // Sphere bounds on the signed distance: lower from the enclosing spheres, upper from the
             // inscribed ones (see `collision` for why both hold with penetration too).
-            let mut lower =
-                scratch.outer[i].distance(scratch.outer[j]) - a.outer_radius - b.outer_radius;
-            let mut upper =
-                scratch.inner[i].distance(scratch.inner[j]) - a.inner_radius - b.inner_radius;
+            let (mut lower, mut upper) = sphere_bounds(
+                a,
+                scratch.outer[i],
+                scratch.inner[i],
+                b,
+                scratch.outer[j],
+                scratch.inner[j],
+            );
             if let Some(t) = &set.tables[p] {
                 let (lo, hi) = t.bounds(scratch.q[t.dof]);
                 lower = lower.max(lo);

@@ -17,6 +17,7 @@ mod table;
 pub use engine::{CHUNK, Engine};
 pub use reasons::{Evidence, Reason, infer, never_upper_bound};
 pub use records::{PairRecord, SampleFile, TypeSummary, Witness};
+pub use rng::Rng;
 pub use search::{SearchOutcome, SearchParams, path_dofs, search_pair};
 pub use stats::PairStats;
 
