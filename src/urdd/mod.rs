@@ -71,7 +71,7 @@ impl Urdd {
     }
 
     /// Opens `dir` if it holds a readable manifest, else starts a fresh one for `robot` (nothing is
-    /// written until [`Urdd::save_manifest`]). A manifest that exists but is broken is an error.
+    /// written until a stage is recorded). A manifest that exists but is broken is an error.
     pub fn open_or_new(dir: &Path, robot: &str) -> Result<Urdd> {
         if dir.join(MANIFEST).exists() {
             Urdd::open(dir)
