@@ -278,3 +278,61 @@ fn broken_urdds_are_bad_input() {
         "stage \"preprocess\"",
     );
 }
+
+/// The default run's shortcuts against an exact run of the same samples on UR5e: collision counts and
+/// verdicts identical, `d_min` / `d_max` within the tolerance, `d_mean` within 1% (the control-variate
+/// estimate from each pair's leading samples against the mean over all of them).
+#[test]
+fn estimates_stay_within_their_documented_error_on_ur5e() {
+    let Some(robots) = common::robots_dir() else {
+        return;
+    };
+    let base = common::preprocessed(&robots.join("ur5e/ur5e.urdf"), "ur5e-exact");
+    let run = |name: &str, exact: bool| {
+        let dir = common::scratch(name);
+        copy_dir(&base, &dir);
+        let mut opts = SampleOptions::new(&dir);
+        // More samples than the default mean cap (25,000), so the default run estimates means.
+        opts.samples = 30_000;
+        if exact {
+            opts.tolerance = 0.0;
+            opts.mean_samples = opts.samples;
+        }
+        sample(&opts, &NoProgress).unwrap();
+        dir
+    };
+    let (fast, exact) = (run("ur5e-fast", false), run("ur5e-all", true));
+    let tol = SampleOptions::new(&fast).tolerance;
+    let mut estimated = 0;
+    for t in ShapeType::ALL {
+        let (f, e) = (read_sample(&fast, t), read_sample(&exact, t));
+        for (p, q) in f.pairs.iter().zip(&e.pairs) {
+            let at = format!("{} pair {}-{}", t.id(), p.a, p.b);
+            assert_eq!((p.collisions, p.reason), (q.collisions, q.reason), "{at}");
+            assert!(
+                (p.d_min - q.d_min).abs() <= tol,
+                "{at}: d_min {} vs {}",
+                p.d_min,
+                q.d_min
+            );
+            assert!(
+                (p.d_max - q.d_max).abs() <= tol,
+                "{at}: d_max {} vs {}",
+                p.d_max,
+                q.d_max
+            );
+            let err = (p.d_mean - q.d_mean).abs();
+            assert!(
+                err <= 0.01 * q.d_mean.abs().max(1e-3),
+                "{at}: d_mean {} vs {}",
+                p.d_mean,
+                q.d_mean
+            );
+            estimated += usize::from(p.mean_samples < q.mean_samples);
+        }
+    }
+    assert!(
+        estimated > 0,
+        "no mean was estimated: the test compares nothing"
+    );
+}

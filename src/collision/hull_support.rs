@@ -57,17 +57,12 @@ impl HullSupport {
     }
 }
 
-impl SupportMap for HullSupport {
-    fn local_support_point(&self, dir: Vec3) -> Vec3 {
-        let mut at = self.starts[match (
-            dir.x.abs() >= dir.y.abs(),
-            dir.y.abs() >= dir.z.abs(),
-            dir.x.abs() >= dir.z.abs(),
-        ) {
-            (true, _, true) => usize::from(dir.x < 0.0),
-            (false, true, _) => 2 + usize::from(dir.y < 0.0),
-            _ => 4 + usize::from(dir.z < 0.0),
-        }] as usize;
+impl HullSupport {
+    /// The index of the farthest vertex along `dir`, climbing from vertex `start` (any vertex gives the
+    /// same answer; one near it gets there in fewer steps).
+    #[inline]
+    pub fn support_index_from(&self, dir: Vec3, start: u32) -> u32 {
+        let mut at = start as usize;
         let mut best = self.vertices[at].dot(dir);
         loop {
             let mut moved = false;
@@ -81,9 +76,24 @@ impl SupportMap for HullSupport {
                 }
             }
             if !moved {
-                return self.vertices[at];
+                return at as u32;
             }
         }
+    }
+}
+
+impl SupportMap for HullSupport {
+    fn local_support_point(&self, dir: Vec3) -> Vec3 {
+        let at = self.starts[match (
+            dir.x.abs() >= dir.y.abs(),
+            dir.y.abs() >= dir.z.abs(),
+            dir.x.abs() >= dir.z.abs(),
+        ) {
+            (true, _, true) => usize::from(dir.x < 0.0),
+            (false, true, _) => 2 + usize::from(dir.y < 0.0),
+            _ => 4 + usize::from(dir.z < 0.0),
+        }];
+        self.vertices[self.support_index_from(dir, at) as usize]
     }
 }
 

@@ -91,27 +91,30 @@ impl CollisionShape {
         *link * self.local
     }
 
-    /// The interval `[min, max]` of the shape (posed at `pose`) projected on the unit axis `u`.
-    pub fn project(&self, pose: &Pose, u: Vec3) -> (f64, f64) {
-        let c = pose.translation.dot(u);
-        let local = pose.rotation.inverse() * u;
+    /// The shape's point numbered `anchor` (world frame), posed at `pose`: a hull vertex, or for a
+    /// sphere or box its centre.
+    #[inline]
+    pub fn anchor(&self, pose: &Pose, anchor: u32) -> Vec3 {
         match &self.kind {
-            Kind::Ball(b) => (c - b.radius, c + b.radius),
-            Kind::Box(Cuboid { half_extents: h }) => {
-                let r = h.x * local.x.abs() + h.y * local.y.abs() + h.z * local.z.abs();
-                (c - r, c + r)
-            }
-            Kind::Hull(hull) => {
-                let (lo, hi) = hull.vertices().iter().fold(
-                    (f64::INFINITY, f64::NEG_INFINITY),
-                    |(lo, hi), p| {
-                        let x = p.dot(local);
-                        (lo.min(x), hi.max(x))
-                    },
-                );
-                (c + lo, c + hi)
-            }
+            Kind::Hull(h) => pose.transform_point(h.vertices()[anchor as usize]),
+            _ => pose.translation,
         }
+    }
+
+    /// The shape's farthest point along `dir` (world frame), posed at `pose`, and its anchor number
+    /// (see [`CollisionShape::anchor`]; a hull's search starts from anchor `from`).
+    #[inline]
+    pub fn support_from(&self, pose: &Pose, dir: Vec3, from: u32) -> (Vec3, u32) {
+        let local = pose.rotation.inverse() * dir;
+        let (p, id) = match &self.kind {
+            Kind::Ball(b) => (local.normalize_or_zero() * b.radius, 0),
+            Kind::Box(c) => (c.local_support_point(local), 0),
+            Kind::Hull(h) => {
+                let id = h.support_index_from(local, from);
+                (h.vertices()[id as usize], id)
+            }
+        };
+        (pose.transform_point(p), id)
     }
 }
 
@@ -122,19 +125,26 @@ enum Kind {
     Hull(HullSupport),
 }
 
-/// A lower bound on the signed distance from one separating-axis test along the unit axis `u`: the
-/// shapes' gap along `u` if they are apart on it, else minus their overlap (translating by the overlap
-/// along `u` separates them, so the penetration depth is at most that).
-pub fn axis_lower_bound(
+/// Bounds on the signed distance from the two shapes' extreme points along the unit axis `u` (pointing
+/// from `a` towards `b`): `(lower, upper, next)`. With `pa` the farthest point of `a` along `u` and `pb`
+/// the farthest of `b` along `-u`, the lower bound is their gap along `u` (a separating-axis test: if
+/// negative, translating `b` by it along `u` separates the shapes, so the penetration depth is at most
+/// that), and the upper bound is `|pa - pb|` (the distance between two points of the shapes, and
+/// non-negative, so above any penetration too). `anchors` holds the anchor numbers the searches start
+/// from and receives those of `pa` and `pb` (see [`CollisionShape::anchor`]).
+#[inline]
+pub fn axis_bounds(
     a: &CollisionShape,
     pa: &Pose,
     b: &CollisionShape,
     pb: &Pose,
     u: Vec3,
-) -> f64 {
-    let (a0, a1) = a.project(pa, u);
-    let (b0, b1) = b.project(pb, u);
-    (b0 - a1).max(a0 - b1)
+    anchors: &mut [u32; 2],
+) -> (f64, f64) {
+    let (xa, ia) = a.support_from(pa, u, anchors[0]);
+    let (xb, ib) = b.support_from(pb, -u, anchors[1]);
+    *anchors = [ia, ib];
+    ((xb - xa).dot(u), xa.distance(xb))
 }
 
 /// Sphere bounds on the signed distance of two shapes whose enclosing-sphere centres are at `outer_a`,
@@ -200,6 +210,43 @@ fn inscribed(h: &ConvexMesh) -> (Vec3, f64) {
         .map(|(n, d)| d - n.dot(c))
         .fold(f64::INFINITY, f64::min);
     (c, if r.is_finite() { r.max(0.0) } else { 0.0 })
+}
+
+/// Where the signed distance of two posed shapes lies against a threshold `t > 0`, as far as GJK has
+/// to go to tell: it stops as soon as a support point proves the distance above `t`, or the simplex
+/// proves it at most `t`, long before it would converge on the distance itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Versus {
+    /// The shapes overlap (signed distance `<= 0`).
+    Overlap,
+    /// Apart, by at most `t`.
+    Within,
+    /// Apart by more than `t`.
+    Beyond,
+}
+
+/// Decides [`Versus`] for `t > 0` with the same GJK start as [`signed_distance`].
+pub fn versus(a: &CollisionShape, pa: &Pose, b: &CollisionShape, pb: &Pose, t: f64) -> Versus {
+    if let (Kind::Ball(_), Kind::Ball(_)) = (&a.kind, &b.kind) {
+        let d = signed_distance(a, pa, b, pb);
+        return if d <= 0.0 {
+            Versus::Overlap
+        } else if d <= t {
+            Versus::Within
+        } else {
+            Versus::Beyond
+        };
+    }
+    let pos12 = pa.inv_mul(pb);
+    let (g1, g2) = (a.support_map(), b.support_map());
+    let dir = (-pos12.translation).normalize_or(Vec3::X);
+    let mut simplex = query::gjk::VoronoiSimplex::new();
+    simplex.reset(query::gjk::CsoPoint::from_shapes(&pos12, g1, g2, dir));
+    match query::gjk::closest_points(&pos12, g1, g2, t, false, &mut simplex) {
+        query::gjk::GJKResult::Intersection => Versus::Overlap,
+        query::gjk::GJKResult::NoIntersection(_) => Versus::Beyond,
+        _ => Versus::Within,
+    }
 }
 
 /// Exact signed distance between two posed shapes (see the module doc for the sign). The shapes are in

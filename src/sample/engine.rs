@@ -5,7 +5,7 @@ use super::rng::Rng;
 use super::stats::PairStats;
 use super::table::{self, Table};
 use crate::collision::{
-    CollisionShape, ShapeSet, axis_lower_bound, signed_distance, sphere_bounds,
+    CollisionShape, ShapeSet, Versus, axis_bounds, signed_distance, sphere_bounds, versus,
 };
 use crate::error::Result;
 use crate::math::{Pose, Vec3};
@@ -56,15 +56,28 @@ pub struct ChunkRun<'a> {
     pub mean_budget: &'a [Vec<u64>],
     /// A sample is skipped for the extremes only when it cannot change them by more than this.
     pub tol: f64,
+    /// Per set and pair, statistics over samples every run contains (the pilot, samples `0..PILOT`),
+    /// or empty: the run's minimum and maximum are at least as extreme as theirs, so no chunk needs an
+    /// exact query for a sample that could not beat them either.
+    pub known: &'a [Vec<PairStats>],
+}
+
+/// One sample placed: its configuration, link poses and, per set, the world centres of every shape's
+/// enclosing and inscribed spheres.
+#[derive(Debug, Default, Clone)]
+pub struct Placed {
+    q: Vec<f64>,
+    links: Vec<Pose>,
+    outer: Vec<Vec<Vec3>>,
+    inner: Vec<Vec<Vec3>>,
 }
 
 /// Per-worker scratch space, reused across samples.
 #[derive(Default)]
 pub struct Scratch {
-    q: Vec<f64>,
-    links: Vec<Pose>,
-    outer: Vec<Vec3>,
-    inner: Vec<Vec3>,
+    placed: Placed,
+    /// Per set and pair, the anchors (hull vertices) of the last bounds found in this chunk.
+    anchors: Vec<Vec<[u32; 2]>>,
 }
 
 impl Engine {
@@ -154,111 +167,208 @@ impl Engine {
         }
     }
 
-    /// Samples chunk `chunk` (samples `chunk*CHUNK ..` up to `run.total`) into `acc[set][pair]`, which
-    /// must start empty: with `run.tol > 0` which samples get exact queries depends on what the chunk has
-    /// seen, so each chunk is computed alone and merged, keeping results independent of threads and
-    /// shards. Rigid pairs are skipped here (the caller computes them once).
-    pub fn run_chunk(
-        &self,
-        run: &ChunkRun,
-        chunk: u64,
-        acc: &mut [Vec<PairStats>],
-        scratch: &mut Scratch,
-    ) {
-        let ChunkRun {
-            seed,
-            total,
-            mean_budget,
-            tol,
-        } = *run;
-        let mut rng = Rng::new(seed, chunk);
-        let first = chunk * CHUNK;
-        let last = (first + CHUNK).min(total);
-        for k in first..last {
-            self.draw(&mut rng, &mut scratch.q);
-            self.kinematics
-                .link_poses_into(&scratch.q, &mut scratch.links);
-            for ((set, stats), budget) in self.sets.iter().zip(acc.iter_mut()).zip(mean_budget) {
-                self.sample_set(set, k, budget, tol, stats, scratch);
+    /// Draws the next sample from `rng` and places every set's spheres.
+    fn place(&self, rng: &mut Rng, placed: &mut Placed) {
+        self.draw(rng, &mut placed.q);
+        self.kinematics
+            .link_poses_into(&placed.q, &mut placed.links);
+        placed.outer.resize(self.sets.len(), Vec::new());
+        placed.inner.resize(self.sets.len(), Vec::new());
+        for (s, set) in self.sets.iter().enumerate() {
+            let (outer, inner) = (&mut placed.outer[s], &mut placed.inner[s]);
+            outer.clear();
+            inner.clear();
+            for (shape, &link) in set.shapes.iter().zip(&set.links) {
+                let pose = &placed.links[link];
+                outer.push(pose.transform_point(shape.outer_center));
+                inner.push(pose.transform_point(shape.inner_center));
             }
         }
     }
 
-    fn sample_set(
+    /// Statistics of the first `n` samples (chunk 0's) with an exact distance for every moving pair at
+    /// every sample: the same as [`Engine::run_chunk`] computes for them under a mean budget of at least
+    /// `n`, but in parallel over pairs.
+    pub fn pilot(&self, seed: u64, n: u64) -> Vec<Vec<PairStats>> {
+        let mut rng = Rng::new(seed, 0);
+        let samples: Vec<Placed> = (0..n.min(CHUNK))
+            .map(|_| {
+                let mut placed = Placed::default();
+                self.place(&mut rng, &mut placed);
+                placed
+            })
+            .collect();
+        self.sets
+            .iter()
+            .enumerate()
+            .map(|(s, set)| {
+                (0..set.pairs.len())
+                    .into_par_iter()
+                    .map(|p| {
+                        let mut st = PairStats::default();
+                        if set.moving[p] {
+                            for (k, placed) in samples.iter().enumerate() {
+                                let k = k as u64;
+                                let anchors = &mut [0, 0];
+                                self.observe(set, s, p, placed, k, n, 0.0, None, anchors, &mut st);
+                            }
+                        }
+                        st
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Samples chunk `chunk` (samples `chunk*CHUNK ..` up to `run.total`) into `acc[set][pair]`, which
+    /// must hold the statistics of the chunk's first `done` samples (empty for `done == 0`): with
+    /// `run.tol > 0` which samples get exact queries depends on what the chunk has seen, so each chunk
+    /// is computed alone and merged, keeping results independent of threads and shards. Rigid pairs are
+    /// skipped here (the caller computes them once).
+    pub fn run_chunk(
         &self,
-        set: &TypeSet,
-        k: u64,
-        mean_budget: &[u64],
-        tol: f64,
-        stats: &mut [PairStats],
+        run: &ChunkRun,
+        chunk: u64,
+        done: u64,
+        acc: &mut [Vec<PairStats>],
         scratch: &mut Scratch,
     ) {
-        let poses = &scratch.links;
-        scratch.outer.clear();
-        scratch.inner.clear();
-        for (shape, &link) in set.shapes.iter().zip(&set.links) {
-            scratch
-                .outer
-                .push(poses[link].transform_point(shape.outer_center));
-            scratch
-                .inner
-                .push(poses[link].transform_point(shape.inner_center));
+        let mut rng = Rng::new(run.seed, chunk);
+        let first = chunk * CHUNK;
+        let last = (first + CHUNK).min(run.total);
+        // Anchors start afresh in every chunk, so a chunk's result does not depend on the worker.
+        scratch.anchors.resize(self.sets.len(), Vec::new());
+        for (anchors, set) in scratch.anchors.iter_mut().zip(&self.sets) {
+            anchors.clear();
+            anchors.resize(set.pairs.len(), [0, 0]);
         }
-        for (p, &(i, j)) in set.pairs.iter().enumerate() {
-            if !set.moving[p] {
-                continue;
-            }
-            let (i, j) = (i as usize, j as usize);
-            let (a, b) = (&set.shapes[i], &set.shapes[j]);
-            // Sphere bounds on the signed distance: lower from the enclosing spheres, upper from the
-            // inscribed ones (see `collision` for why both hold with penetration too).
-            let (mut lower, mut upper) = sphere_bounds(
-                a,
-                scratch.outer[i],
-                scratch.inner[i],
-                b,
-                scratch.outer[j],
-                scratch.inner[j],
-            );
-            if let Some(t) = &set.tables[p] {
-                let (lo, hi) = t.bounds(scratch.q[t.dof]);
-                lower = lower.max(lo);
-                upper = upper.min(hi);
-            }
-            let st = &mut stats[p];
-            // The control bound of the mean estimate: the same cheap bound for every sample.
-            let control = if lower.is_finite() { lower } else { 0.0 };
-            st.observe_bound(control);
-            let exact_mean = k < mean_budget[p];
-            let needs_exact = |lower: f64, st: &PairStats| {
-                exact_mean
-                    || (lower <= 0.0 && upper >= 0.0)
-                    || st.could_lower_min(lower, k, tol)
-                    || st.could_raise_max(upper, k, tol)
-            };
-            if !needs_exact(lower, st) {
-                // The bounds decide: no new extreme, and the verdict is known.
-                st.collisions += u64::from(upper < 0.0);
-                continue;
-            }
-            // Shape poses only for the pairs that get past the sphere bounds.
-            let (pa, pb) = (a.pose(&poses[set.links[i]]), b.pose(&poses[set.links[j]]));
-            if !exact_mean {
-                // A separating-axis test along the line between the centres tightens the lower bound.
-                let axis = (scratch.outer[j] - scratch.outer[i]).normalize_or(Vec3::Z);
-                lower = lower.max(axis_lower_bound(a, &pa, b, &pb, axis));
-                if !needs_exact(lower, st) {
-                    st.collisions += u64::from(upper < 0.0);
-                    continue;
+        let placed = &mut scratch.placed;
+        for _ in 0..done {
+            self.draw(&mut rng, &mut placed.q);
+        }
+        for k in first + done..last {
+            self.place(&mut rng, placed);
+            let sets = self
+                .sets
+                .iter()
+                .zip(acc.iter_mut())
+                .zip(&mut scratch.anchors);
+            for (s, ((set, stats), anchors)) in sets.enumerate() {
+                let known = run.known.get(s);
+                for (p, (st, anchor)) in stats.iter_mut().zip(anchors.iter_mut()).enumerate() {
+                    if set.moving[p] {
+                        let budget = run.mean_budget[s][p];
+                        let known = known.map(|v| &v[p]);
+                        self.observe(set, s, p, placed, k, budget, run.tol, known, anchor, st);
+                    }
                 }
             }
-            let d = signed_distance(a, &pa, b, &pb);
-            st.observe_extremes(d, k);
-            if exact_mean {
-                st.observe_mean(d, control);
-            }
-            st.collisions += u64::from(d <= 0.0);
         }
+    }
+
+    /// Adds sample `k` (placed) of moving pair `p` of set `s` to `st`, with an exact query only where
+    /// the bounds cannot decide: the sample enters the mean (`k < mean_budget`), the collision verdict
+    /// is open, or it could move the minimum or maximum by more than `tol` beyond both `st` and `known`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn observe(
+        &self,
+        set: &TypeSet,
+        s: usize,
+        p: usize,
+        placed: &Placed,
+        k: u64,
+        mean_budget: u64,
+        tol: f64,
+        known: Option<&PairStats>,
+        anchors: &mut [u32; 2],
+        st: &mut PairStats,
+    ) {
+        let (i, j) = set.pairs[p];
+        let (i, j) = (i as usize, j as usize);
+        let (a, b) = (&set.shapes[i], &set.shapes[j]);
+        let (outer, inner) = (&placed.outer[s], &placed.inner[s]);
+        // Sphere bounds on the signed distance: lower from the enclosing spheres, upper from the
+        // inscribed ones (see `collision` for why both hold with penetration too).
+        let (mut lower, mut upper) = sphere_bounds(a, outer[i], inner[i], b, outer[j], inner[j]);
+        if let Some(t) = &set.tables[p] {
+            let (lo, hi) = t.bounds(placed.q[t.dof]);
+            lower = lower.max(lo);
+            upper = upper.min(hi);
+        }
+        // The control bound of the mean estimate: the same cheap bound for every sample.
+        let control = if lower.is_finite() { lower } else { 0.0 };
+        st.observe_bound(control);
+        let exact_mean = k < mean_budget;
+        let need_min = |lower: f64, st: &PairStats| {
+            st.could_lower_min(lower, k, tol)
+                && known.is_none_or(|n| n.could_lower_min(lower, k, tol))
+        };
+        let need_max = |upper: f64, st: &PairStats| {
+            st.could_raise_max(upper, k, tol)
+                && known.is_none_or(|n| n.could_raise_max(upper, k, tol))
+        };
+        let needs_exact = |lower: f64, upper: f64, st: &PairStats| {
+            exact_mean
+                || (lower <= 0.0 && upper >= 0.0)
+                || need_min(lower, st)
+                || need_max(upper, st)
+        };
+        if !needs_exact(lower, upper, st) {
+            // The bounds decide: no new extreme, and the verdict is known.
+            st.collisions += u64::from(upper < 0.0);
+            return;
+        }
+        // Shape poses only for the pairs that get past the sphere bounds.
+        let poses = &placed.links;
+        let (pa, pb) = (a.pose(&poses[set.links[i]]), b.pose(&poses[set.links[j]]));
+        if !exact_mean {
+            // The points that bounded this pair at its last sample are still two points of the
+            // shapes: their distance is a cheap upper bound.
+            let (xa, xb) = (a.anchor(&pa, anchors[0]), b.anchor(&pb, anchors[1]));
+            upper = upper.min(xa.distance(xb));
+            if !needs_exact(lower, upper, st) {
+                st.collisions += u64::from(upper < 0.0);
+                return;
+            }
+            // The shapes' extreme points along the line between the centres tighten both bounds.
+            let axis = (outer[j] - outer[i]).normalize_or(Vec3::Z);
+            let (lo, hi) = axis_bounds(a, &pa, b, &pb, axis, anchors);
+            lower = lower.max(lo);
+            upper = upper.min(hi);
+            if !needs_exact(lower, upper, st) {
+                st.collisions += u64::from(upper < 0.0);
+                return;
+            }
+            // One side left open: a GJK that stops once it knows the side of a threshold.
+            let (open_min, open_max) = (need_min(lower, st), need_max(upper, st));
+            let min_threshold = st.min.min(known.map_or(f64::INFINITY, |n| n.min)) - tol;
+            let max_threshold = st.max.max(known.map_or(f64::NEG_INFINITY, |n| n.max)) + tol;
+            let decided = match (open_min, open_max) {
+                // Only the verdict: any positive threshold tells overlap from separation.
+                (false, false) => Some(versus(a, &pa, b, &pb, f64::MIN_POSITIVE)),
+                // Beyond a positive threshold under the minimum: no new minimum, no collision.
+                (true, false) if min_threshold > 0.0 => {
+                    Some(versus(a, &pa, b, &pb, min_threshold)).filter(|v| *v == Versus::Beyond)
+                }
+                // Within the maximum (and its tolerance, so no tie can move the witness): no new
+                // maximum; an overlap is a collision that cannot be a new minimum either.
+                (false, true) if tol > 0.0 && max_threshold > 0.0 => {
+                    Some(versus(a, &pa, b, &pb, max_threshold)).filter(|v| *v != Versus::Beyond)
+                }
+                _ => None,
+            };
+            if let Some(v) = decided {
+                st.collisions += u64::from(v == Versus::Overlap);
+                return;
+            }
+        }
+        let d = signed_distance(a, &pa, b, &pb);
+        st.observe_extremes(d, k);
+        if exact_mean {
+            st.observe_mean(d, control);
+        }
+        st.collisions += u64::from(d <= 0.0);
     }
 }
 

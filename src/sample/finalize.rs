@@ -12,41 +12,27 @@ use crate::urdd::FORMAT_VERSION;
 use rayon::prelude::*;
 use std::collections::{BTreeSet, HashMap};
 
-/// Samples of the pilot run that sizes each pair's exact-mean budget.
-const PILOT: u64 = 512;
+/// Samples of the pilot run that sizes each pair's exact-mean budget: the first samples of chunk 0.
+const PILOT: u64 = 256;
 
-/// How many leading samples enter each pair's mean estimate exactly: enough for a 3-sigma error under
-/// 1% of the mean (residual spread after the control bound, judged from a pilot of the first [`PILOT`]
-/// samples), at least `2 * PILOT`; a pair that would need more than `opts.mean_samples` gets every
-/// sample, so its mean is exact.
+/// The pilot's statistics (see [`Engine::pilot`]) and, per pair, how many leading samples enter its
+/// mean estimate exactly: enough for a 3-sigma error under 1% of the mean (residual spread after the
+/// control bound, judged from the pilot), at least [`PILOT`]; a pair that would need more than
+/// `opts.mean_samples` gets every sample, so its mean is exact. No pilot runs (empty statistics) when
+/// the cap is [`PILOT`] or less, or covers every sample: every pair then gets the cap (with
+/// `mean_samples >= samples`, every mean is exact).
 /// Depends only on the seed and the robot, so every thread count and shard gets the same budgets.
-pub(super) fn mean_budgets(engine: &Engine, opts: &SampleOptions) -> Vec<Vec<u64>> {
+pub(super) fn mean_budgets(
+    engine: &Engine,
+    opts: &SampleOptions,
+) -> (Vec<Vec<PairStats>>, Vec<Vec<u64>>) {
     let cap = opts.mean_samples.min(opts.samples);
-    if cap <= 2 * PILOT {
-        return engine
-            .sets
-            .iter()
-            .map(|s| vec![cap; s.pairs.len()])
-            .collect();
+    if cap <= PILOT || cap == opts.samples {
+        let budgets = engine.sets.iter().map(|s| vec![cap; s.pairs.len()]);
+        return (Vec::new(), budgets.collect());
     }
-    let pilot_budget: Vec<Vec<u64>> = engine
-        .sets
-        .iter()
-        .map(|s| vec![PILOT; s.pairs.len()])
-        .collect();
-    let run = engine::ChunkRun {
-        seed: opts.seed,
-        total: PILOT,
-        mean_budget: &pilot_budget,
-        tol: opts.tolerance,
-    };
-    let mut pilot: Vec<Vec<PairStats>> = engine
-        .sets
-        .iter()
-        .map(|s| vec![PairStats::default(); s.pairs.len()])
-        .collect();
-    engine.run_chunk(&run, 0, &mut pilot, &mut engine::Scratch::default());
-    pilot
+    let pilot = engine.pilot(opts.seed, PILOT);
+    let budgets = pilot
         .iter()
         .map(|stats| {
             stats
@@ -62,16 +48,17 @@ pub(super) fn mean_budgets(engine: &Engine, opts: &SampleOptions) -> Vec<Vec<u64
                     if needed > cap as f64 {
                         opts.samples
                     } else {
-                        (needed as u64).max(2 * PILOT).min(cap)
+                        (needed as u64).clamp(PILOT, cap)
                     }
                 })
                 .collect()
         })
-        .collect()
+        .collect();
+    (pilot, budgets)
 }
 
-/// Runs the chunks in parallel. Each chunk starts from empty accumulators (see [`Engine::run_chunk`]);
-/// chunk results merge exactly in any order.
+/// Runs the chunks in parallel. Each chunk starts from empty accumulators, chunk 0 from the pilot's
+/// (see [`Engine::run_chunk`]); chunk results merge exactly in any order.
 pub(super) fn accumulate(
     engine: &Engine,
     opts: &SampleOptions,
@@ -85,12 +72,13 @@ pub(super) fn accumulate(
             .map(|s| vec![PairStats::default(); s.pairs.len()])
             .collect()
     };
-    let budgets = mean_budgets(engine, opts);
+    let (pilot, budgets) = mean_budgets(engine, opts);
     let run = engine::ChunkRun {
         seed: opts.seed,
         total: opts.samples,
         mean_budget: &budgets,
         tol: opts.tolerance,
+        known: &pilot,
     };
     let merge = |mut a: Vec<Vec<PairStats>>, b: &[Vec<PairStats>]| {
         for (x, y) in a.iter_mut().zip(b) {
@@ -103,8 +91,14 @@ pub(super) fn accumulate(
         .fold(
             || (empty(), empty(), engine::Scratch::default()),
             |(total, mut chunk, mut scratch), &c| {
-                chunk.iter_mut().for_each(|v| v.fill(PairStats::default()));
-                engine.run_chunk(&run, c, &mut chunk, &mut scratch);
+                let done = if c == 0 && !pilot.is_empty() {
+                    chunk.clone_from_slice(&pilot);
+                    PILOT
+                } else {
+                    chunk.iter_mut().for_each(|v| v.fill(PairStats::default()));
+                    0
+                };
+                engine.run_chunk(&run, c, done, &mut chunk, &mut scratch);
                 progress.advance(CHUNK.min(opts.samples - c * CHUNK));
                 (merge(total, &chunk), chunk, scratch)
             },

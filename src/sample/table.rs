@@ -8,8 +8,13 @@ use super::engine::Engine;
 use super::search::path_dofs;
 use crate::robot::JointKind;
 
-/// Grid points per table.
-const GRID: usize = 256;
+/// The slack a table aims for: grid points close enough that the bound between two of them is within
+/// this of the exact distance (m), as fine as [`MAX_GRID`] allows.
+const TARGET_SLACK: f64 = 1e-5;
+
+/// Fewest and most grid points per table.
+const MIN_GRID: usize = 64;
+const MAX_GRID: usize = 1024;
 
 /// The distance of one pair tabulated over its single DOF.
 #[derive(Debug, Clone)]
@@ -23,13 +28,16 @@ pub struct Table {
 }
 
 impl Table {
-    /// Lower and upper bounds of the signed distance at DOF value `x`.
+    /// Lower and upper bounds of the signed distance at DOF value `x`, from the two grid values
+    /// around it.
     #[inline]
     pub fn bounds(&self, x: f64) -> (f64, f64) {
-        let g =
-            (((x - self.lower) / self.step).round().max(0.0) as usize).min(self.values.len() - 1);
-        let slack = self.lipschitz * (x - (self.lower + g as f64 * self.step)).abs();
-        (self.values[g] - slack, self.values[g] + slack)
+        let t = (x - self.lower) / self.step;
+        let g = (t.floor().max(0.0) as usize).min(self.values.len() - 2);
+        let (v0, v1) = (self.values[g], self.values[g + 1]);
+        let s0 = self.lipschitz * (x - (self.lower + g as f64 * self.step)).abs();
+        let s1 = self.lipschitz * (self.lower + (g + 1) as f64 * self.step - x).abs();
+        ((v0 - s0).max(v1 - s1), (v0 + s0).min(v1 + s1))
     }
 }
 
@@ -69,9 +77,17 @@ pub fn build(engine: &Engine, s: usize, p: usize) -> Option<Table> {
             _ => 0.0,
         };
     }
-    let step = (d.upper - d.lower) / (GRID - 1) as f64;
+    // Between two grid points the slack is at most lipschitz * step / 2.
+    let span = d.upper - d.lower;
+    let wanted = (lipschitz * span / (2.0 * TARGET_SLACK)).ceil();
+    let grid = if wanted.is_finite() {
+        (wanted as usize).clamp(MIN_GRID, MAX_GRID)
+    } else {
+        MAX_GRID
+    };
+    let step = span / (grid - 1) as f64;
     let mut q = home;
-    let values = (0..GRID)
+    let values = (0..grid)
         .map(|g| {
             q[dof] = d.lower + g as f64 * step;
             engine.pair_distance(s, p, &q)
