@@ -292,11 +292,10 @@ fn estimates_stay_within_their_documented_error_on_ur5e() {
         let dir = common::scratch(name);
         copy_dir(&base, &dir);
         let mut opts = SampleOptions::new(&dir);
-        // More samples than the default mean cap (25,000), so the default run estimates means.
         opts.samples = 30_000;
         if exact {
             opts.tolerance = 0.0;
-            opts.mean_samples = opts.samples;
+            opts.mean_samples = scm::sample::EXACT_MEAN;
         }
         sample(&opts, &NoProgress).unwrap();
         dir

@@ -222,7 +222,8 @@ pub struct SamplingArgs {
     /// A pair in collision in at least this fraction of the samples is skipped as `always`.
     #[arg(long, default_value_t = 0.95)]
     pub always_fraction: f64,
-    /// Compute d_mean from the first N samples (exact distances); 0 means all samples.
+    /// Estimate each pair's d_mean from at most its first N samples (enough for 1%); 0: every
+    /// sample, an exact mean.
     #[arg(long, value_name = "N", default_value_t = 25_000)]
     pub mean_samples: u64,
     /// d_min and d_max may differ from the exact extremes over the samples by at most this (m);

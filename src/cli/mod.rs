@@ -102,7 +102,7 @@ fn sample_options(urdd: &Path, s: &SamplingArgs, force: bool) -> Result<SampleOp
     opts.threads = s.threads;
     opts.always_fraction = s.always_fraction;
     opts.mean_samples = if s.mean_samples == 0 {
-        u64::MAX
+        scm::sample::EXACT_MEAN
     } else {
         s.mean_samples
     };

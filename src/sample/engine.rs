@@ -62,20 +62,43 @@ pub struct ChunkRun<'a> {
     pub known: &'a [Vec<PairStats>],
 }
 
-/// One sample placed: its configuration, link poses and, per set, the world centres of every shape's
-/// enclosing and inscribed spheres.
+/// What one pair's samples share within a run.
+#[derive(Debug, Clone, Copy)]
+struct PairRun<'a> {
+    /// Samples with a lower index enter the mean with exact distances.
+    mean_budget: u64,
+    /// A sample is skipped for the extremes only when it cannot change them by more than this.
+    tol: f64,
+    /// Statistics over samples every run contains (see [`ChunkRun::known`]).
+    known: Option<&'a PairStats>,
+}
+
+/// Samples per block: a chunk is placed a block at a time, and each pair then runs through the block
+/// with its statistics in cache (the order of samples per pair, and so every result, is unchanged).
+const BLOCK: usize = 128;
+
+/// Consecutive samples placed together: their configurations, link poses and, per set, the world
+/// centres of every shape's enclosing and inscribed spheres (a shape's over the block side by side).
 #[derive(Debug, Default, Clone)]
-pub struct Placed {
+pub struct Block {
+    /// Index of the block's first sample.
+    first: u64,
+    /// Number of samples.
+    len: usize,
+    /// Configurations, `len` rows of one value per DOF.
     q: Vec<f64>,
+    /// Link poses, `len` rows of one pose per link.
     links: Vec<Pose>,
+    /// Per set, enclosing-sphere centres: `len` per shape, shape after shape.
     outer: Vec<Vec<Vec3>>,
+    /// Per set, inscribed-sphere centres, laid out as `outer`.
     inner: Vec<Vec<Vec3>>,
 }
 
 /// Per-worker scratch space, reused across samples.
 #[derive(Default)]
 pub struct Scratch {
-    placed: Placed,
+    block: Block,
     /// Per set and pair, the anchors (hull vertices) of the last bounds found in this chunk.
     anchors: Vec<Vec<[u32; 2]>>,
 }
@@ -167,21 +190,32 @@ impl Engine {
         }
     }
 
-    /// Draws the next sample from `rng` and places every set's spheres.
-    fn place(&self, rng: &mut Rng, placed: &mut Placed) {
-        self.draw(rng, &mut placed.q);
-        self.kinematics
-            .link_poses_into(&placed.q, &mut placed.links);
-        placed.outer.resize(self.sets.len(), Vec::new());
-        placed.inner.resize(self.sets.len(), Vec::new());
+    /// Draws the next `len` samples from `rng` (the first numbered `first`) and places them.
+    fn place(&self, rng: &mut Rng, first: u64, len: usize, block: &mut Block) {
+        let (dofs, links) = (self.kinematics.dofs().len(), self.robot.links.len());
+        block.first = first;
+        block.len = len;
+        block.q.clear();
+        block.links.clear();
+        let (mut q, mut poses) = (Vec::with_capacity(dofs), Vec::with_capacity(links));
+        for _ in 0..len {
+            self.draw(rng, &mut q);
+            self.kinematics.link_poses_into(&q, &mut poses);
+            block.q.extend_from_slice(&q);
+            block.links.extend_from_slice(&poses);
+        }
+        block.outer.resize(self.sets.len(), Vec::new());
+        block.inner.resize(self.sets.len(), Vec::new());
         for (s, set) in self.sets.iter().enumerate() {
-            let (outer, inner) = (&mut placed.outer[s], &mut placed.inner[s]);
+            let (outer, inner) = (&mut block.outer[s], &mut block.inner[s]);
             outer.clear();
             inner.clear();
             for (shape, &link) in set.shapes.iter().zip(&set.links) {
-                let pose = &placed.links[link];
-                outer.push(pose.transform_point(shape.outer_center));
-                inner.push(pose.transform_point(shape.inner_center));
+                for kk in 0..len {
+                    let pose = &block.links[kk * links + link];
+                    outer.push(pose.transform_point(shape.outer_center));
+                    inner.push(pose.transform_point(shape.inner_center));
+                }
             }
         }
     }
@@ -190,14 +224,8 @@ impl Engine {
     /// every sample: the same as [`Engine::run_chunk`] computes for them under a mean budget of at least
     /// `n`, but in parallel over pairs.
     pub fn pilot(&self, seed: u64, n: u64) -> Vec<Vec<PairStats>> {
-        let mut rng = Rng::new(seed, 0);
-        let samples: Vec<Placed> = (0..n.min(CHUNK))
-            .map(|_| {
-                let mut placed = Placed::default();
-                self.place(&mut rng, &mut placed);
-                placed
-            })
-            .collect();
+        let mut block = Block::default();
+        self.place(&mut Rng::new(seed, 0), 0, n.min(CHUNK) as usize, &mut block);
         self.sets
             .iter()
             .enumerate()
@@ -207,11 +235,12 @@ impl Engine {
                     .map(|p| {
                         let mut st = PairStats::default();
                         if set.moving[p] {
-                            for (k, placed) in samples.iter().enumerate() {
-                                let k = k as u64;
-                                let anchors = &mut [0, 0];
-                                self.observe(set, s, p, placed, k, n, 0.0, None, anchors, &mut st);
-                            }
+                            let run = PairRun {
+                                mean_budget: n,
+                                tol: 0.0,
+                                known: None,
+                            };
+                            self.observe_block(set, s, p, &block, &run, &mut [0, 0], &mut st);
                         }
                         st
                     })
@@ -242,12 +271,15 @@ impl Engine {
             anchors.clear();
             anchors.resize(set.pairs.len(), [0, 0]);
         }
-        let placed = &mut scratch.placed;
+        let mut skipped = Vec::new();
         for _ in 0..done {
-            self.draw(&mut rng, &mut placed.q);
+            self.draw(&mut rng, &mut skipped);
         }
-        for k in first + done..last {
-            self.place(&mut rng, placed);
+        let block = &mut scratch.block;
+        let mut start = first + done;
+        while start < last {
+            let len = (last - start).min(BLOCK as u64) as usize;
+            self.place(&mut rng, start, len, block);
             let sets = self
                 .sets
                 .iter()
@@ -257,18 +289,40 @@ impl Engine {
                 let known = run.known.get(s);
                 for (p, (st, anchor)) in stats.iter_mut().zip(anchors.iter_mut()).enumerate() {
                     if set.moving[p] {
-                        let budget = run.mean_budget[s][p];
-                        let known = known.map(|v| &v[p]);
-                        self.observe(set, s, p, placed, k, budget, run.tol, known, anchor, st);
+                        let pair_run = PairRun {
+                            mean_budget: run.mean_budget[s][p],
+                            tol: run.tol,
+                            known: known.map(|v| &v[p]),
+                        };
+                        self.observe_block(set, s, p, block, &pair_run, anchor, st);
                     }
                 }
             }
+            start += len as u64;
         }
     }
 
-    /// Adds sample `k` (placed) of moving pair `p` of set `s` to `st`, with an exact query only where
-    /// the bounds cannot decide: the sample enters the mean (`k < mean_budget`), the collision verdict
-    /// is open, or it could move the minimum or maximum by more than `tol` beyond both `st` and `known`.
+    /// Adds every sample of `block` of moving pair `p` of set `s` to `st`, in sample order.
+    #[allow(clippy::too_many_arguments)]
+    fn observe_block(
+        &self,
+        set: &TypeSet,
+        s: usize,
+        p: usize,
+        block: &Block,
+        run: &PairRun,
+        anchors: &mut [u32; 2],
+        st: &mut PairStats,
+    ) {
+        for kk in 0..block.len {
+            self.observe(set, s, p, block, kk, run, anchors, st);
+        }
+    }
+
+    /// Adds sample `kk` of `block` of moving pair `p` of set `s` to `st`, with an exact query only
+    /// where the bounds cannot decide: the sample enters the mean (`k < run.mean_budget`), the
+    /// collision verdict is open, or it could move the minimum or maximum by more than `run.tol`
+    /// beyond both `st` and `run.known`.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn observe(
@@ -276,23 +330,31 @@ impl Engine {
         set: &TypeSet,
         s: usize,
         p: usize,
-        placed: &Placed,
-        k: u64,
-        mean_budget: u64,
-        tol: f64,
-        known: Option<&PairStats>,
+        block: &Block,
+        kk: usize,
+        run: &PairRun,
         anchors: &mut [u32; 2],
         st: &mut PairStats,
     ) {
+        let PairRun {
+            mean_budget,
+            tol,
+            known,
+        } = *run;
+        let k = block.first + kk as u64;
+        let (n, shapes) = (block.len, set.shapes.len());
+        debug_assert_eq!(block.outer[s].len(), n * shapes);
         let (i, j) = set.pairs[p];
         let (i, j) = (i as usize, j as usize);
         let (a, b) = (&set.shapes[i], &set.shapes[j]);
-        let (outer, inner) = (&placed.outer[s], &placed.inner[s]);
+        let (outer, inner) = (&block.outer[s], &block.inner[s]);
+        let (oi, oj) = (outer[i * n + kk], outer[j * n + kk]);
         // Sphere bounds on the signed distance: lower from the enclosing spheres, upper from the
         // inscribed ones (see `collision` for why both hold with penetration too).
-        let (mut lower, mut upper) = sphere_bounds(a, outer[i], inner[i], b, outer[j], inner[j]);
+        let (mut lower, mut upper) =
+            sphere_bounds(a, oi, inner[i * n + kk], b, oj, inner[j * n + kk]);
         if let Some(t) = &set.tables[p] {
-            let (lo, hi) = t.bounds(placed.q[t.dof]);
+            let (lo, hi) = t.bounds(block.q[kk * self.kinematics.dofs().len() + t.dof]);
             lower = lower.max(lo);
             upper = upper.min(hi);
         }
@@ -320,7 +382,7 @@ impl Engine {
             return;
         }
         // Shape poses only for the pairs that get past the sphere bounds.
-        let poses = &placed.links;
+        let poses = &block.links[kk * self.robot.links.len()..];
         let (pa, pb) = (a.pose(&poses[set.links[i]]), b.pose(&poses[set.links[j]]));
         if !exact_mean {
             // The points that bounded this pair at its last sample are still two points of the
@@ -332,7 +394,7 @@ impl Engine {
                 return;
             }
             // The shapes' extreme points along the line between the centres tighten both bounds.
-            let axis = (outer[j] - outer[i]).normalize_or(Vec3::Z);
+            let axis = (oj - oi).normalize_or(Vec3::Z);
             let (lo, hi) = axis_bounds(a, &pa, b, &pb, axis, anchors);
             lower = lower.max(lo);
             upper = upper.min(hi);

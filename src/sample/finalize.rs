@@ -1,12 +1,12 @@
 //! From samples to verdicts: per-pair mean budgets, parallel accumulation over chunks, and the
 //! finalisation into records (rigid pairs, home distances, reasons, witnesses, targeted search).
 
-use super::SampleOptions;
 use super::engine::{self, CHUNK, Engine};
 use super::reasons::{Evidence, Reason, infer, never_upper_bound};
 use super::records::{PairRecord, SampleFile, TypeSummary, Witness};
 use super::search::search_pair;
 use super::stats::PairStats;
+use super::{EXACT_MEAN, SampleOptions};
 use crate::progress::Progress;
 use crate::urdd::FORMAT_VERSION;
 use rayon::prelude::*;
@@ -19,15 +19,15 @@ const PILOT: u64 = 256;
 /// mean estimate exactly: enough for a 3-sigma error under 1% of the mean (residual spread after the
 /// control bound, judged from the pilot), at least [`PILOT`]; a pair that would need more than
 /// `opts.mean_samples` gets every sample, so its mean is exact. No pilot runs (empty statistics) when
-/// the cap is [`PILOT`] or less, or covers every sample: every pair then gets the cap (with
-/// `mean_samples >= samples`, every mean is exact).
+/// the cap is [`PILOT`] or less, or is [`EXACT_MEAN`]: every pair then gets the cap (every sample,
+/// an exact mean, for [`EXACT_MEAN`]).
 /// Depends only on the seed and the robot, so every thread count and shard gets the same budgets.
 pub(super) fn mean_budgets(
     engine: &Engine,
     opts: &SampleOptions,
 ) -> (Vec<Vec<PairStats>>, Vec<Vec<u64>>) {
     let cap = opts.mean_samples.min(opts.samples);
-    if cap <= PILOT || cap == opts.samples {
+    if cap <= PILOT || opts.mean_samples == EXACT_MEAN {
         let budgets = engine.sets.iter().map(|s| vec![cap; s.pairs.len()]);
         return (Vec::new(), budgets.collect());
     }

@@ -59,6 +59,9 @@ impl Shard {
     }
 }
 
+/// `SampleOptions::mean_samples` for exact means over every sample.
+pub const EXACT_MEAN: u64 = u64::MAX;
+
 /// What to sample and how; everything but `threads`, `shard` and `force` enters the stage key.
 #[derive(Debug, Clone, Serialize)]
 pub struct SampleOptions {
@@ -72,7 +75,8 @@ pub struct SampleOptions {
     pub types: Vec<ShapeType>,
     /// A pair colliding in at least this fraction of samples is `always`.
     pub always_fraction: f64,
-    /// The first this many samples enter d_mean exactly (all samples when >= `samples`).
+    /// At most this many leading samples per pair enter d_mean's estimate ([`EXACT_MEAN`]: every
+    /// sample, an exact mean).
     pub mean_samples: u64,
     /// d_min and d_max are within this many metres of the exact extremes over the samples (0: exact).
     pub tolerance: f64,
