@@ -85,7 +85,7 @@ fn spawn_camera(mut commands: Commands, mut egui: ResMut<EguiGlobalSettings>) {
 fn frame_robot(bounds: Res<SceneBounds>, mut orbits: Query<&mut Orbit>) {
     for mut orbit in &mut orbits {
         orbit.focus = bounds.center;
-        orbit.distance = bounds.radius * 2.1;
+        orbit.distance = bounds.radius * 2.8;
     }
 }
 

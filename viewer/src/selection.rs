@@ -2,7 +2,7 @@
 //! points, its two shapes in blue and yellow with every other shape faded and outlined, and the segment
 //! between the closest points with its length.
 
-use crate::scene::{ShapeEntity, to_world};
+use crate::scene::{OriginalMesh, ShapeEntity, to_world};
 use crate::state::{
     BLUE, Closest, Distances, Joints, Selection, Settings, UiOrder, Viewer, YELLOW,
 };
@@ -90,12 +90,25 @@ fn highlight_selected_pair(
     settings: Res<Settings>,
     selection: Res<Selection>,
     shapes: Query<(&ShapeEntity, &MeshMaterial3d<StandardMaterial>)>,
+    originals: Query<&MeshMaterial3d<StandardMaterial>, With<OriginalMesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
 ) {
     let pair = viewer.0.type_data(settings.shape_type).and_then(|data| {
         let p = selection.within(data.pair_count())?;
         Some(data.pair(p))
     });
+    // The original meshes share one material: see-through while a pair is selected.
+    if let Some(handle) = originals.iter().next()
+        && let Some(mut mat) = materials.get_mut(&handle.0)
+    {
+        let alpha = if pair.is_some() { WITH_ORIGINALS } else { 1.0 };
+        mat.base_color.set_alpha(alpha);
+        mat.alpha_mode = if alpha < 1.0 {
+            AlphaMode::Blend
+        } else {
+            AlphaMode::Opaque
+        };
+    }
     for (shape, handle) in &shapes {
         if shape.shape_type != settings.shape_type {
             continue;
@@ -193,11 +206,10 @@ fn distance_label(
                 .fill(egui::Color32::from_black_alpha(170))
                 .inner_margin(4.0)
                 .show(ui, |ui| {
-                    ui.label(
-                        egui::RichText::new(text)
-                            .color(egui::Color32::WHITE)
-                            .strong(),
-                    );
+                    let text = egui::RichText::new(text)
+                        .color(egui::Color32::WHITE)
+                        .strong();
+                    ui.add(egui::Label::new(text).wrap_mode(egui::TextWrapMode::Extend));
                 });
         });
     Ok(())
