@@ -174,46 +174,18 @@ mod tests {
     use super::*;
     use crate::fixtures::matrix;
 
+    /// Marks `pair` of `m`; returns how many pairs changed.
+    fn mark(ed: &mut Editor, m: &SkipMatrix, pair: usize, skip: bool) -> usize {
+        ed.apply(&Edit::Mark { pair, skip }, m, &[]).0
+    }
+
     #[test]
     fn marks_undo_and_redo_restore_each_layer() {
         let m = matrix(4);
         let mut ed = Editor::new(UserLayer::default());
-        assert_eq!(
-            ed.apply(
-                &Edit::Mark {
-                    pair: 1,
-                    skip: true
-                },
-                &m,
-                &[]
-            )
-            .0,
-            1
-        );
-        assert_eq!(
-            ed.apply(
-                &Edit::Mark {
-                    pair: 1,
-                    skip: true
-                },
-                &m,
-                &[]
-            )
-            .0,
-            0
-        );
-        assert_eq!(
-            ed.apply(
-                &Edit::Mark {
-                    pair: 2,
-                    skip: false
-                },
-                &m,
-                &[]
-            )
-            .0,
-            1
-        );
+        assert_eq!(mark(&mut ed, &m, 1, true), 1);
+        assert_eq!(mark(&mut ed, &m, 1, true), 0);
+        assert_eq!(mark(&mut ed, &m, 2, false), 1);
         assert_eq!(ed.layer().edits.len(), 2);
         assert!(ed.is_dirty());
         assert!(ed.undo().is_some());
@@ -236,23 +208,9 @@ mod tests {
     fn a_new_edit_clears_redo() {
         let m = matrix(3);
         let mut ed = Editor::new(UserLayer::default());
-        ed.apply(
-            &Edit::Mark {
-                pair: 0,
-                skip: true,
-            },
-            &m,
-            &[],
-        );
+        mark(&mut ed, &m, 0, true);
         ed.undo();
-        ed.apply(
-            &Edit::Mark {
-                pair: 1,
-                skip: true,
-            },
-            &m,
-            &[],
-        );
+        mark(&mut ed, &m, 1, true);
         assert!(ed.redo().is_none());
     }
 

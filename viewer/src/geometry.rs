@@ -164,20 +164,7 @@ pub fn outline(geometry: &Geometry) -> Vec<[Vec3; 2]> {
             }
             out
         }
-        Geometry::Hull(h) => {
-            let mut edges: Vec<(u32, u32)> = h
-                .faces
-                .iter()
-                .flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])])
-                .map(|(a, b)| (a.min(b), a.max(b)))
-                .collect();
-            edges.sort_unstable();
-            edges.dedup();
-            edges
-                .into_iter()
-                .map(|(a, b)| [h.vertices[a as usize], h.vertices[b as usize]])
-                .collect()
-        }
+        Geometry::Hull(h) => h.edges().into_iter().map(|(a, b)| [a, b]).collect(),
     }
 }
 
