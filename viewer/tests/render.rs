@@ -188,6 +188,10 @@ fn scripted_viewer_highlights_the_pair_and_saves_the_marks() {
              screenshot {}\n\
              select {} {}\n\
              skip\n\
+             check\n\
+             undo\n\
+             redo\n\
+             undo\n\
              skip-below 0.005\n\
              screenshot {}\n\
              save\n",
