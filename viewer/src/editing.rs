@@ -103,11 +103,14 @@ fn edit_shortcuts(
     let typing = contexts
         .ctx_mut()
         .is_ok_and(|ctx| ctx.egui_wants_keyboard_input());
-    let ctrl = keys.any_pressed([KeyCode::ControlLeft, KeyCode::ControlRight]);
+    // A key pressed and released within one frame still counts (fast typists, synthetic input).
+    let ctrls = [KeyCode::ControlLeft, KeyCode::ControlRight];
+    let ctrl = keys.any_pressed(ctrls) || keys.any_just_released(ctrls);
     if typing || !ctrl {
         return;
     }
-    let shift = keys.any_pressed([KeyCode::ShiftLeft, KeyCode::ShiftRight]);
+    let shifts = [KeyCode::ShiftLeft, KeyCode::ShiftRight];
+    let shift = keys.any_pressed(shifts) || keys.any_just_released(shifts);
     if keys.just_pressed(KeyCode::KeyZ) {
         requests.write(if shift {
             EditRequest::Redo
@@ -174,7 +177,7 @@ fn edit_panel(
                 out.push(EditRequest::Save);
             }
         });
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.label("Skip pairs with d <");
             ui.add(
                 egui::Slider::new(&mut below, -0.05..=0.1)
