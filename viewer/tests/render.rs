@@ -171,10 +171,21 @@ fn scripted_viewer_highlights_the_pair_and_saves_the_marks() {
         .min_by(|x, y| x.1.total_cmp(&y.1))
         .expect("a checked pair");
     let (a, b) = (matrix.key(matrix.stats[p].a), matrix.key(matrix.stats[p].b));
-    let close: Vec<usize> = (0..d.len())
-        .filter(|&k| k != p && !matrix.entries[k].skip && d[k] < 0.005)
+    // The bulk rule's threshold: just past the next closest checked pair, so it must mark that one too
+    // and leave the farther ones.
+    let mut checked: Vec<f64> = (0..d.len())
+        .filter(|&k| k != p && !matrix.entries[k].skip)
+        .map(|k| d[k])
         .collect();
-    eprintln!("{} other checked pairs closer than 5 mm", close.len());
+    checked.sort_by(f64::total_cmp);
+    let threshold = checked[0] + 1e-4;
+    let close: Vec<usize> = (0..d.len())
+        .filter(|&k| k != p && !matrix.entries[k].skip && d[k] < threshold)
+        .collect();
+    let far: Vec<usize> = (0..d.len())
+        .filter(|&k| !matrix.entries[k].skip && d[k] >= threshold)
+        .collect();
+    assert!(!close.is_empty() && !far.is_empty());
     let config: Vec<String> = q.iter().map(|v| v.to_string()).collect();
     let (none, selected) = (work.join("none.png"), work.join("selected.png"));
     let script = work.join("actions.txt");
@@ -192,7 +203,7 @@ fn scripted_viewer_highlights_the_pair_and_saves_the_marks() {
              undo\n\
              redo\n\
              undo\n\
-             skip-below 0.005\n\
+             skip-below {threshold}\n\
              screenshot {}\n\
              save\n",
             config.join(" "),
