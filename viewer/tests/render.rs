@@ -24,21 +24,26 @@ fn scratch(name: &str) -> PathBuf {
 
 /// The demo arm preprocessed and sampled briefly (2,000 samples, hull and decomp-sphere).
 fn demo_urdd(name: &str) -> PathBuf {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let out = scratch(name).join("demo.urdd");
-    let opts = scm::preprocess::PreprocessOptions {
-        urdf: root.join("robots/demo_arm/demo_arm.urdf"),
-        out: out.clone(),
-        packages: scm::robot::PackagePaths::new(),
-        params: scm::shapes::ShapeParams::default(),
-        force: false,
-    };
-    scm::preprocess::preprocess(&opts, &NoProgress).expect("preprocess the demo arm");
+    preprocess_demo(&out);
     let mut s = scm::sample::SampleOptions::new(&out);
     s.samples = 2000;
     s.types = vec![ShapeType::Hull, ShapeType::DecompSphere];
     scm::sample::sample(&s, &NoProgress).expect("sample the demo arm");
     out
+}
+
+/// Preprocesses the demo arm (default parameters) into `out`.
+fn preprocess_demo(out: &Path) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let opts = scm::preprocess::PreprocessOptions {
+        urdf: root.join("robots/demo_arm/demo_arm.urdf"),
+        out: out.to_path_buf(),
+        packages: scm::robot::PackagePaths::new(),
+        params: scm::shapes::ShapeParams::default(),
+        force: false,
+    };
+    scm::preprocess::preprocess(&opts, &NoProgress).expect("preprocess the demo arm");
 }
 
 /// Whether the render test can run here: xvfb-run on PATH and a Vulkan loader and driver installed.
@@ -271,31 +276,26 @@ fn viewer(args: &[&std::ffi::OsStr]) -> Output {
         .expect("run scm-viewer")
 }
 
+/// Runs the viewer with `args`, expects exit 2 and one line on stderr, and returns that line.
+fn bad_input_line(args: &[&std::ffi::OsStr]) -> String {
+    let out = viewer(args);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    err
+}
+
 #[test]
 fn bad_input_is_one_line_and_exit_2_before_any_window() {
     let work = scratch("bad-input");
     let missing = work.join("missing.urdd");
-    let out = viewer(&[missing.as_os_str()]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{err}");
-    assert_eq!(err.lines().count(), 1, "{err}");
+    let err = bad_input_line(&[missing.as_os_str()]);
     assert!(err.contains("missing.urdd"), "{err}");
 
     // Preprocessed but never sampled.
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let unsampled = work.join("unsampled.urdd");
-    let opts = scm::preprocess::PreprocessOptions {
-        urdf: root.join("robots/demo_arm/demo_arm.urdf"),
-        out: unsampled.clone(),
-        packages: scm::robot::PackagePaths::new(),
-        params: scm::shapes::ShapeParams::default(),
-        force: false,
-    };
-    scm::preprocess::preprocess(&opts, &NoProgress).expect("preprocess");
-    let out = viewer(&[unsampled.as_os_str()]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{err}");
-    assert_eq!(err.lines().count(), 1, "{err}");
+    preprocess_demo(&unsampled);
+    let err = bad_input_line(&[unsampled.as_os_str()]);
     assert!(err.contains("sample"), "{err}");
 }
 
@@ -311,10 +311,7 @@ fn a_bad_script_line_names_the_file_and_line() {
         ("teleport\n", "line 1: unknown action"),
     ] {
         std::fs::write(&script, text).expect("write script");
-        let out = viewer(&[dir.as_os_str(), "--script".as_ref(), script.as_os_str()]);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{text}: {err}");
-        assert_eq!(err.lines().count(), 1, "{err}");
+        let err = bad_input_line(&[dir.as_os_str(), "--script".as_ref(), script.as_os_str()]);
         assert!(err.contains("bad.txt: "), "{err}");
         assert!(err.contains(needle), "{text}: {err}");
     }
