@@ -264,3 +264,39 @@ fn bad_input_keeps_existing_urdd() {
     assert!(out.join("preprocess/shapes/hull.json").is_file());
     assert!(!Path::new(&out).join(".preprocess.tmp").exists());
 }
+
+#[test]
+fn scm_view_of_a_missing_urdd_is_one_line_and_exit_2() {
+    let dir = common::scratch("view-missing").join("nothing.urdd");
+    let out = common::scm(&["view".as_ref(), dir.as_os_str()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("nothing.urdd"), "{err}");
+}
+
+#[test]
+fn scm_view_without_the_viewer_says_how_to_build_it() {
+    // A copy of scm alone in a folder, with nothing on PATH: no scm-viewer to be found.
+    let work = common::scratch("view-no-viewer");
+    let scm = work.join("scm");
+    std::fs::copy(env!("CARGO_BIN_EXE_scm"), &scm).unwrap();
+    let urdd = common::preprocessed(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/demo_arm/demo_arm.urdf"),
+        "view-no-viewer-urdd",
+    );
+    let out = std::process::Command::new(&scm)
+        .arg("view")
+        .arg(&urdd)
+        .env("PATH", "")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("`scm-viewer` was not found next to scm or on PATH")
+            && err.contains("cargo build --release -p scm-viewer"),
+        "{err}"
+    );
+}

@@ -78,20 +78,6 @@ fn posed(mesh: &ConvexMesh, pose: &Pose) -> ConvexMesh {
     }
 }
 
-fn edges(m: &ConvexMesh) -> Vec<(Vec3, Vec3)> {
-    let mut e: Vec<(u32, u32)> = m
-        .faces
-        .iter()
-        .flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])])
-        .map(|(a, b)| (a.min(b), a.max(b)))
-        .collect();
-    e.sort_unstable();
-    e.dedup();
-    e.into_iter()
-        .map(|(a, b)| (m.vertices[a as usize], m.vertices[b as usize]))
-        .collect()
-}
-
 /// Exact distance between two separated convex polyhedra.
 fn brute_distance(a: &ConvexMesh, b: &ConvexMesh) -> f64 {
     let mut best = f64::INFINITY;
@@ -103,7 +89,7 @@ fn brute_distance(a: &ConvexMesh, b: &ConvexMesh) -> f64 {
             }
         }
     }
-    let (ea, eb) = (edges(a), edges(b));
+    let (ea, eb) = (a.edges(), b.edges());
     for (p1, q1) in &ea {
         for (p2, q2) in &eb {
             best = best.min(segment_distance(*p1, *q1, *p2, *q2));
@@ -124,8 +110,8 @@ fn separated_by_axis(a: &ConvexMesh, b: &ConvexMesh) -> bool {
         .map(|f| normal(a, f))
         .chain(b.faces.iter().map(|f| normal(b, f)))
         .collect();
-    for (p1, q1) in edges(a) {
-        for (p2, q2) in edges(b) {
+    for (p1, q1) in a.edges() {
+        for (p2, q2) in b.edges() {
             axes.push((q1 - p1).cross(q2 - p2));
         }
     }

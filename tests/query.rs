@@ -138,6 +138,28 @@ fn queries_match_brute_force_with_and_without_skips() {
 }
 
 #[test]
+fn pair_distance_of_any_pair_matches_brute_force_even_when_skipped() {
+    let Some(dir) = ur5e() else { return };
+    let urdd = Urdd::open(dir).unwrap();
+    let checker = SelfChecker::load(&urdd, ShapeType::Hull, SkipMode::Skips).unwrap();
+    let mut scratch = checker.scratch();
+    for q in configurations(&checker, 20) {
+        for ((a, b), d) in brute_force(&urdd, ShapeType::Hull, &q) {
+            let (got, points) = checker.pair_distance(&q, b, a, &mut scratch).unwrap();
+            assert_eq!(got, d, "pair {a}-{b} at {q:?}");
+            if d > 1e-6 {
+                assert!((points[0].distance(points[1]) - d).abs() < 1e-6);
+            }
+        }
+    }
+    assert!(
+        checker
+            .pair_distance(&checker.home(), 0, 0, &mut scratch)
+            .is_err()
+    );
+}
+
+#[test]
 fn a_sampled_collision_is_reported_with_its_pair() {
     let Some(dir) = ur5e() else { return };
     let urdd = Urdd::open(dir).unwrap();

@@ -16,14 +16,13 @@
 
 use crate::error::{Error, Result};
 use crate::math::{Pose, Vec3};
-use crate::preprocess::{link_mesh, load_meshes};
+use crate::preprocess::{link_mesh, load_urdd_meshes};
 use crate::robot::Kinematics;
 use crate::shapes::minimal_bounding_sphere;
 use crate::urdd::Urdd;
 use parry3d_f64::bounding_volume::BoundingVolume;
 use parry3d_f64::query;
 use parry3d_f64::shape::TriMesh;
-use std::path::Path;
 
 /// One link's original geometry, ready for exact tests.
 struct LinkMesh {
@@ -59,16 +58,7 @@ impl MeshTruth {
     pub fn load(urdd: &Urdd) -> Result<MeshTruth> {
         let record = urdd.robot()?;
         let robot = &record.robot;
-        let urdf = urdd
-            .stage(crate::urdd::PREPROCESS)?
-            .inputs
-            .iter()
-            .find(|i| i.role == "urdf")
-            .map_or_else(
-                || urdd.dir().join("robot.urdf"),
-                |i| Path::new(&i.path).into(),
-            );
-        let meshes = load_meshes(robot, &urdf)?;
+        let meshes = load_urdd_meshes(urdd, robot)?;
         let mut links = Vec::with_capacity(robot.links.len());
         for link in &robot.links {
             // The link's elements one by one, remembering where each starts: one probe vertex per

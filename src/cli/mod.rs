@@ -412,8 +412,9 @@ fn run_view(args: &ViewArgs) -> Result<()> {
     let viewer = find_viewer().ok_or_else(|| Error::Failed {
         context: "scm view".into(),
         message:
-            "the viewer binary `scm-viewer` was not found next to scm or on PATH; build it with \
-                  `cargo build --release -p scm-viewer` (it needs Bevy) and put it beside scm"
+            "the viewer binary `scm-viewer` was not found next to scm or on PATH; build it in the \
+             scm source tree with `cargo build --release -p scm-viewer` (it needs Bevy) and put \
+             target/release/scm-viewer beside scm or on PATH"
                 .into(),
     })?;
     let status = std::process::Command::new(&viewer)

@@ -47,6 +47,21 @@ pub fn load_meshes(robot: &Robot, urdf: &Path) -> Result<MeshCache> {
         .collect()
 }
 
+/// Loads every mesh file of a preprocessed URDD's robot, from the URDF the preprocess stage recorded
+/// (the original link geometry, as [`link_mesh`] assembles it).
+pub fn load_urdd_meshes(urdd: &crate::urdd::Urdd, robot: &Robot) -> Result<MeshCache> {
+    let urdf = urdd
+        .stage(crate::urdd::PREPROCESS)?
+        .inputs
+        .iter()
+        .find(|i| i.role == "urdf")
+        .map_or_else(
+            || urdd.dir().join("robot.urdf"),
+            |i| Path::new(&i.path).into(),
+        );
+    load_meshes(robot, &urdf)
+}
+
 /// The link's geometry as one triangle soup in the link frame (empty for links without geometry).
 pub fn link_mesh(link: &Link, meshes: &MeshCache) -> TriMesh {
     let mut out = TriMesh::default();

@@ -3,7 +3,7 @@
 
 mod geometry;
 
-pub use geometry::{MeshCache, link_mesh, load_meshes};
+pub use geometry::{MeshCache, link_mesh, load_meshes, load_urdd_meshes};
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;

@@ -257,6 +257,34 @@ impl SelfChecker {
             .collect())
     }
 
+    /// The signed distance of one pair `{a, b}` (any order, skipped or not) at `q` and its witness
+    /// points in the world (root link) frame, on `a` and on `b` (as in [`Proximity::points`]).
+    pub fn pair_distance(
+        &self,
+        q: &[f64],
+        a: usize,
+        b: usize,
+        scratch: &mut Scratch,
+    ) -> Result<(f64, [Vec3; 2])> {
+        let n = self.set.shapes.len();
+        if a == b || a >= n || b >= n {
+            return Err(Error::input(
+                Path::new("pair"),
+                format!("shapes {a} and {b}"),
+                format!("not a pair of two of the {n} shapes"),
+            ));
+        }
+        self.prepare(q, scratch)?;
+        // Computed in matrix order, so either order gives the same distance bit for bit.
+        let (lo, hi) = (a.min(b), a.max(b));
+        let (pa, pb) = (self.pose(lo, scratch), self.pose(hi, scratch));
+        let (sa, sb) = (&self.set.shapes[lo], &self.set.shapes[hi]);
+        let d = signed_distance(sa, &pa, sb, &pb);
+        let [x, y] = witness_points(sa, &pa, sb, &pb)
+            .map_or([pa.translation, pb.translation], |(x, y)| [x, y]);
+        Ok((d, if lo == a { [x, y] } else { [y, x] }))
+    }
+
     fn shape_pair(&self, a: usize, b: usize) -> ShapePair {
         ShapePair {
             a,

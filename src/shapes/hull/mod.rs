@@ -89,6 +89,21 @@ impl ConvexMesh {
         }
         self.vertices.iter().copied().sum::<Vec3>() / self.vertices.len() as f64
     }
+
+    /// Every edge of the faces once, as its two corners (for outlines and edge-edge tests).
+    pub fn edges(&self) -> Vec<(Vec3, Vec3)> {
+        let mut e: Vec<(u32, u32)> = self
+            .faces
+            .iter()
+            .flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])])
+            .map(|(a, b)| (a.min(b), a.max(b)))
+            .collect();
+        e.sort_unstable();
+        e.dedup();
+        e.into_iter()
+            .map(|(a, b)| (self.vertices[a as usize], self.vertices[b as usize]))
+            .collect()
+    }
 }
 
 /// Why a convex hull could not be built.
@@ -390,6 +405,10 @@ mod tests {
         assert!(pts.iter().all(|p| h.contains(*p, 1e-12)));
         assert!(!h.contains(Vec3::new(0.5, 0.5, 1.01), 1e-3));
         assert!(h.planes().iter().all(|(n, d)| n.dot(h.centroid()) < *d));
+        // A triangulated cube: 12 edges and one diagonal per face, each once.
+        let edges = h.edges();
+        assert_eq!(edges.len(), 18);
+        assert!(edges.iter().all(|(a, b)| a.distance(*b) >= 1.0 - 1e-12));
     }
 
     #[test]

@@ -1,0 +1,93 @@
+//! Joint panel plugin (left): the shape type, the original-mesh toggle, one slider per degree of
+//! freedom with its name and limits, home and a random configuration.
+
+use crate::state::{Joints, Settings, UiLayout, UiOrder, Viewer};
+use bevy::prelude::*;
+use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
+use scm::sample::Rng;
+use scm::shapes::ShapeType;
+
+/// The left panel.
+pub struct JointPanelPlugin;
+
+impl Plugin for JointPanelPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(EguiPrimaryContextPass, joint_panel.in_set(UiOrder::Left));
+    }
+}
+
+/// A configuration drawn uniformly within the limits from `seed`.
+pub fn random_configuration(dofs: &[scm::robot::Dof], seed: u64) -> Vec<f64> {
+    let mut rng = Rng::new(seed, 0x7669_6577);
+    dofs.iter().map(|d| rng.range(d.lower, d.upper)).collect()
+}
+
+fn joint_panel(
+    mut contexts: EguiContexts,
+    mut layout: ResMut<UiLayout>,
+    viewer: Res<Viewer>,
+    mut joints: ResMut<Joints>,
+    mut settings: ResMut<Settings>,
+) -> Result {
+    let ctx = contexts.ctx_mut()?;
+    let model = &viewer.0;
+    let mut q = joints.q.clone();
+    let mut s = *settings;
+    let mut root = layout.root(ctx, "joint-root");
+    let response = egui::Panel::left("joints")
+        .resizable(true)
+        .default_size(270.0)
+        .show(&mut root, |ui| {
+            ui.heading(model.name());
+            ui.label(
+                egui::RichText::new(model.urdd.dir().display().to_string())
+                    .small()
+                    .weak(),
+            );
+            ui.separator();
+            ui.horizontal(|ui| {
+                ui.label("Shape type");
+                egui::ComboBox::from_id_salt("shape-type")
+                    .selected_text(s.shape_type.id())
+                    .show_ui(ui, |ui| {
+                        for t in ShapeType::ALL {
+                            let sampled = model.type_data(t).is_some();
+                            let label = if sampled {
+                                t.id().to_string()
+                            } else {
+                                format!("{} (not sampled)", t.id())
+                            };
+                            ui.add_enabled_ui(sampled, |ui| {
+                                ui.selectable_value(&mut s.shape_type, t, label);
+                            });
+                        }
+                    });
+            });
+            ui.checkbox(&mut s.originals, "original meshes");
+            ui.separator();
+            ui.horizontal(|ui| {
+                ui.strong("Joints");
+                if ui.button("Home").clicked() {
+                    q = model.kinematics.home();
+                }
+                if ui.button("Random").clicked() {
+                    q = random_configuration(model.dofs(), joints.next_seed);
+                    joints.bypass_change_detection().next_seed += 1;
+                }
+            });
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                for (v, d) in q.iter_mut().zip(model.dofs()) {
+                    ui.label(format!("{}  [{:.3}, {:.3}]", d.name, d.lower, d.upper));
+                    ui.add(egui::Slider::new(v, d.lower..=d.upper).fixed_decimals(3));
+                }
+            });
+        });
+    layout.bypass_change_detection().free.min.x = response.response.rect.max.x;
+    if q != joints.q {
+        joints.q = q;
+    }
+    if s.shape_type != settings.shape_type || s.originals != settings.originals {
+        *settings = s;
+    }
+    Ok(())
+}

@@ -1,0 +1,125 @@
+//! scm-viewer: the interactive viewer for exploring and refining a URDD's self-collision matrices.
+//!
+//! One plugin per concern, all on the `scm` library's types: [`scene`] (robot shapes and meshes),
+//! [`camera`] (orbit camera), [`joint_panel`] (sliders), [`pair_panel`] (pair list), [`selection`]
+//! (highlight and closest points), [`editing`] (marks, bulk rules, undo, save) and, in scripted mode,
+//! [`player`]. The state they share is in [`state`]; the logic behind the panels is plain Rust in
+//! [`model`], [`pairs`], [`edits`], [`script`] and [`geometry`], tested without a window.
+
+pub mod camera;
+pub mod editing;
+pub mod edits;
+#[cfg(test)]
+mod fixtures;
+pub mod geometry;
+pub mod joint_panel;
+pub mod model;
+pub mod pair_panel;
+pub mod pairs;
+pub mod player;
+pub mod scene;
+pub mod script;
+pub mod selection;
+pub mod state;
+
+use bevy::prelude::*;
+use bevy::window::{PresentMode, WindowResolution};
+use bevy::winit::WinitSettings;
+use std::path::{Path, PathBuf};
+
+/// How to run the viewer.
+#[derive(Debug, Clone)]
+pub struct ViewerOptions {
+    /// Play this action script, write its screenshots, then exit.
+    pub script: Option<PathBuf>,
+    /// Window size in logical pixels.
+    pub window: (u32, u32),
+}
+
+impl Default for ViewerOptions {
+    fn default() -> Self {
+        ViewerOptions {
+            script: None,
+            window: (1600, 960),
+        }
+    }
+}
+
+/// Opens the viewer on the URDD `dir` and runs until the window closes (or the script ends).
+/// A missing, unpreprocessed or unsampled URDD, or a bad script line, is an error before any window
+/// opens; the app's own exit status is returned otherwise.
+pub fn run(dir: &Path, options: ViewerOptions) -> scm::Result<AppExit> {
+    let model = model::Model::load(dir)?;
+    let script = match &options.script {
+        Some(path) => {
+            let s = script::Script::load(path)?;
+            s.check(&model)?;
+            Some(s)
+        }
+        None => None,
+    };
+    let geometry = geometry::SceneGeometry::load(&model)?;
+    let first = model.types[0].shape_type;
+    let hull = model
+        .type_data(scm::shapes::ShapeType::Hull)
+        .map_or(first, |d| d.shape_type);
+    let editor = edits::Editor::new(model.user.clone());
+    let home = model.kinematics.home();
+    let title = format!("scm view: {} ({})", model.name(), dir.display());
+
+    let mut app = App::new();
+    app.add_plugins(
+        DefaultPlugins
+            .set(WindowPlugin {
+                primary_window: Some(Window {
+                    title,
+                    resolution: WindowResolution::new(options.window.0, options.window.1)
+                        .with_scale_factor_override(1.0),
+                    present_mode: PresentMode::AutoVsync,
+                    ..default()
+                }),
+                ..default()
+            })
+            .set(bevy::log::LogPlugin {
+                filter: "warn,wgpu=error,naga=error".into(),
+                ..default()
+            }),
+    )
+    .add_plugins(bevy_egui::EguiPlugin::default())
+    .insert_resource(state::Viewer(model))
+    .insert_resource(scene::SceneGeometryRes(geometry))
+    .insert_resource(state::Joints {
+        q: home,
+        next_seed: 1,
+    })
+    .insert_resource(state::Settings {
+        shape_type: hull,
+        originals: false,
+    })
+    .insert_resource(state::Editing {
+        editor,
+        below_distance: 0.0,
+        below_ratio: 0.2,
+        status: String::new(),
+        error: None,
+    })
+    .add_plugins((
+        state::StatePlugin,
+        scene::ScenePlugin,
+        camera::CameraPlugin,
+        joint_panel::JointPanelPlugin,
+        pair_panel::PairPanelPlugin,
+        selection::SelectionPlugin,
+        editing::EditingPlugin,
+    ));
+    match script {
+        Some(s) => {
+            app.insert_resource(WinitSettings::continuous())
+                .add_plugins(player::ScriptPlugin(s));
+        }
+        None => {
+            app.insert_resource(WinitSettings::desktop_app());
+        }
+    }
+    Ok(app.run())
+}

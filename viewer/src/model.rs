@@ -1,0 +1,161 @@
+//! The loaded URDD as the viewer needs it: the robot's kinematics and, per sampled shape type, the
+//! shapes, the sample statistics, a checker for current distances and the effective skip matrix.
+
+use scm::error::{Error, Result};
+use scm::math::Vec3;
+use scm::matrix::{ImportedLayer, SkipMatrix, UserLayer, load_sample};
+use scm::query::{Scratch, SelfChecker, SkipMode};
+use scm::robot::{Dof, Kinematics, Robot};
+use scm::sample::SampleFile;
+use scm::shapes::ShapeType;
+use scm::urdd::Urdd;
+use std::path::Path;
+
+/// One sampled shape type: everything the pair list and the highlight need.
+#[derive(Debug)]
+pub struct TypeData {
+    /// The shape type.
+    pub shape_type: ShapeType,
+    /// The sample output (statistics, inferred reasons, witnesses).
+    pub sample: SampleFile,
+    /// The effective matrix with the current user layer applied.
+    pub matrix: SkipMatrix,
+    /// A checker over all pairs (no skips), for current distances and closest points.
+    checker: SelfChecker,
+}
+
+impl TypeData {
+    /// Number of pairs `a < b`.
+    pub fn pair_count(&self) -> usize {
+        self.matrix.entries.len()
+    }
+
+    /// The shapes `(a, b)` of pair `p` (row-major index).
+    pub fn pair(&self, p: usize) -> (usize, usize) {
+        let s = &self.matrix.stats[p];
+        (s.a, s.b)
+    }
+
+    /// The signed distance of every pair at `q`, row-major.
+    pub fn distances(&self, q: &[f64], scratch: &mut Scratch) -> Result<Vec<f64>> {
+        self.checker.all_distances(q, scratch)
+    }
+
+    /// The signed distance of pair `p` at `q` and its witness points (root frame).
+    pub fn closest_points(
+        &self,
+        q: &[f64],
+        p: usize,
+        scratch: &mut Scratch,
+    ) -> Result<(f64, [Vec3; 2])> {
+        let (a, b) = self.pair(p);
+        self.checker.pair_distance(q, a, b, scratch)
+    }
+
+    /// Re-resolves the effective matrix with `user` (after an edit).
+    pub fn resolve(&mut self, imported: Option<&ImportedLayer>, user: &UserLayer) -> Result<()> {
+        self.matrix = SkipMatrix::resolve(
+            self.matrix.shapes.clone(),
+            self.sample.clone(),
+            imported,
+            user,
+        )?;
+        Ok(())
+    }
+
+    /// Pairs skipped by the effective matrix.
+    pub fn skipped(&self) -> usize {
+        self.matrix.entries.iter().filter(|e| e.skip).count()
+    }
+}
+
+/// The whole URDD as loaded by the viewer.
+#[derive(Debug)]
+pub struct Model {
+    /// The URDD.
+    pub urdd: Urdd,
+    /// The robot model (links, geometry sources).
+    pub robot: Robot,
+    /// Forward kinematics.
+    pub kinematics: Kinematics,
+    /// The imported layer, if any.
+    pub imported: Option<ImportedLayer>,
+    /// The user layer as loaded (edits live in [`crate::edits::Editor`]).
+    pub user: UserLayer,
+    /// The sampled types, in [`ShapeType::ALL`] order.
+    pub types: Vec<TypeData>,
+}
+
+impl Model {
+    /// Loads `dir`: it must be preprocessed and sampled (for at least one type), or it is bad input.
+    pub fn load(dir: &Path) -> Result<Model> {
+        let urdd = Urdd::open(dir)?;
+        let robot = urdd.robot()?.robot;
+        let kinematics = Kinematics::new(&robot);
+        let imported = ImportedLayer::load(&urdd)?;
+        let user = UserLayer::load(&urdd)?;
+        let mut types = Vec::new();
+        let mut first_error = None;
+        for t in ShapeType::ALL {
+            let sample = match load_sample(&urdd, t) {
+                Ok(s) => s,
+                Err(e) => {
+                    first_error.get_or_insert(e);
+                    continue;
+                }
+            };
+            let shapes = urdd.shapes(t)?.shapes;
+            let matrix = SkipMatrix::resolve(shapes, sample.clone(), imported.as_ref(), &user)?;
+            let checker = SelfChecker::load(&urdd, t, SkipMode::NoSkips)?;
+            types.push(TypeData {
+                shape_type: t,
+                sample,
+                matrix,
+                checker,
+            });
+        }
+        if types.is_empty() {
+            return Err(first_error.unwrap_or_else(|| {
+                Error::input(dir, "sample", "no shape type was sampled; run `scm sample`")
+            }));
+        }
+        Ok(Model {
+            urdd,
+            robot,
+            kinematics,
+            imported,
+            user,
+            types,
+        })
+    }
+
+    /// The degrees of freedom, in configuration order.
+    pub fn dofs(&self) -> &[Dof] {
+        self.kinematics.dofs()
+    }
+
+    /// The data of type `t`, if it was sampled.
+    pub fn type_data(&self, t: ShapeType) -> Option<&TypeData> {
+        self.types.iter().find(|d| d.shape_type == t)
+    }
+
+    /// Re-resolves every type's matrix with `user`.
+    pub fn resolve_all(&mut self, user: &UserLayer) -> Result<()> {
+        for d in &mut self.types {
+            d.resolve(self.imported.as_ref(), user)?;
+        }
+        Ok(())
+    }
+
+    /// The robot's name.
+    pub fn name(&self) -> &str {
+        &self.robot.name
+    }
+}
+
+/// Clamps a configuration into the DOF limits.
+pub fn clamp(dofs: &[Dof], q: &mut [f64]) {
+    for (v, d) in q.iter_mut().zip(dofs) {
+        *v = v.clamp(d.lower, d.upper);
+    }
+}

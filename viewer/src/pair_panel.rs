@@ -1,0 +1,214 @@
+//! Pair panel plugin (right): the selected type's pairs with their verdict, reason and statistics,
+//! sortable and filtered; the selected pair's details and a button to its witness configuration.
+
+use crate::pairs::{SortKey, pair_label, ratio, visible_pairs};
+use crate::state::{
+    Distances, Joints, PairRows, PairView, Selection, Settings, UiLayout, UiOrder, Viewer,
+};
+use bevy::prelude::*;
+use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
+
+/// The right panel and the list it shows.
+pub struct PairPanelPlugin;
+
+impl Plugin for PairPanelPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_systems(
+            Update,
+            refresh_pair_rows.run_if(
+                resource_changed::<Distances>
+                    .or_eager(resource_changed::<Settings>)
+                    .or_eager(resource_changed::<PairView>)
+                    .or_eager(resource_changed::<Viewer>),
+            ),
+        )
+        .add_systems(EguiPrimaryContextPass, pair_panel.in_set(UiOrder::Right));
+    }
+}
+
+/// Recomputes the visible rows after a change of distances, sort, filter or matrix.
+fn refresh_pair_rows(
+    viewer: Res<Viewer>,
+    settings: Res<Settings>,
+    view: Res<PairView>,
+    distances: Res<Distances>,
+    mut rows: ResMut<PairRows>,
+) {
+    if let Some(data) = viewer.0.type_data(settings.shape_type)
+        && distances.0.len() == data.pair_count()
+    {
+        rows.rows = visible_pairs(&data.matrix, &distances.0, view.sort, &view.filter);
+        rows.shape_type = Some(settings.shape_type);
+    }
+}
+
+/// A distance in millimetres, for the list.
+fn mm(d: f64) -> String {
+    if d.is_finite() {
+        format!("{:+8.1}", d * 1000.0)
+    } else {
+        "       -".into()
+    }
+}
+
+/// `d / d_mean` in six characters (`-inf` when the mean is not positive).
+fn ratio_text(r: f64) -> String {
+    if r.is_finite() {
+        format!("{r:>6.2}")
+    } else {
+        format!("{:>6}", "-inf")
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn pair_panel(
+    mut contexts: EguiContexts,
+    mut layout: ResMut<UiLayout>,
+    viewer: Res<Viewer>,
+    settings: Res<Settings>,
+    distances: Res<Distances>,
+    rows: Res<PairRows>,
+    mut view: ResMut<PairView>,
+    mut selection: ResMut<Selection>,
+    mut joints: ResMut<Joints>,
+) -> Result {
+    let ctx = contexts.ctx_mut()?;
+    let Some(data) = viewer.0.type_data(settings.shape_type) else {
+        return Ok(());
+    };
+    let m = &data.matrix;
+    let d = &distances.0;
+    let mut v = view.clone();
+    let mut selected = selection.within(m.entries.len());
+    let listed: &[usize] = if rows.shape_type == Some(settings.shape_type) {
+        &rows.rows
+    } else {
+        &[]
+    };
+    let mut go_to: Option<Vec<f64>> = None;
+    let mut root = layout.root(ctx, "pair-root");
+    let response = egui::Panel::right("pairs")
+        .resizable(true)
+        .default_size(500.0)
+        .show(&mut root, |ui| {
+            let skipped = data.skipped();
+            let user = m.entries.iter().filter(|e| e.reason == "user").count();
+            ui.heading(format!("Pairs of {}", settings.shape_type));
+            ui.label(format!(
+                "{} pairs: {skipped} skipped, {} checked, {user} by user marks ({} samples)",
+                m.entries.len(),
+                m.entries.len() - skipped,
+                m.samples
+            ));
+            ui.horizontal(|ui| {
+                ui.label("Sort by");
+                for k in SortKey::ALL {
+                    ui.radio_value(&mut v.sort, k, k.label());
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.label("Filter");
+                ui.add(
+                    egui::TextEdit::singleline(&mut v.filter).hint_text("link, reason, skip..."),
+                );
+            });
+            ui.label(
+                egui::RichText::new(format!(
+                    "{:<30} {:>8} {:>6} {:>8}  verdict",
+                    "pair (shown: ".to_string() + &listed.len().to_string() + ")",
+                    "d mm",
+                    "d/mean",
+                    "d_min mm"
+                ))
+                .monospace()
+                .size(11.0),
+            );
+            let row_height = ui.text_style_height(&egui::TextStyle::Monospace) + 4.0;
+            egui::ScrollArea::vertical()
+                .max_height((ui.available_height() - 240.0).max(120.0))
+                .auto_shrink([false, false])
+                .show_rows(ui, row_height, listed.len(), |ui, range| {
+                    for &p in &listed[range] {
+                        let e = &m.entries[p];
+                        let s = &m.stats[p];
+                        let cur = d.get(p).copied().unwrap_or(f64::NAN);
+                        let mut name = pair_label(m, p);
+                        if name.chars().count() > 30 {
+                            name = name.chars().take(29).collect::<String>() + "~";
+                        }
+                        let text = format!(
+                            "{name:<30} {} {} {}  {} {}",
+                            mm(cur),
+                            ratio_text(ratio(cur, s)),
+                            mm(s.d_min),
+                            if e.skip { "skip " } else { "check" },
+                            e.reason
+                        );
+                        let rich = egui::RichText::new(text).monospace().size(11.0);
+                        let rich = if e.skip { rich.weak() } else { rich };
+                        if ui.selectable_label(selected == Some(p), rich).clicked() {
+                            selected = if selected == Some(p) { None } else { Some(p) };
+                        }
+                    }
+                });
+            ui.separator();
+            match selected {
+                None => {
+                    ui.label("Select a pair to highlight it and edit its verdict.");
+                }
+                Some(p) => {
+                    let e = &m.entries[p];
+                    let s = &m.stats[p];
+                    let cur = d.get(p).copied().unwrap_or(f64::NAN);
+                    ui.strong(pair_label(m, p));
+                    ui.label(format!(
+                        "{}  (reason {}, layer {}; inferred by sampling: {})",
+                        if e.skip { "skipped" } else { "checked" },
+                        e.reason,
+                        e.layer.id(),
+                        s.reason.id()
+                    ));
+                    egui::Grid::new("stats").num_columns(4).show(ui, |ui| {
+                        ui.label("d now");
+                        ui.label(format!("{:.2} mm", cur * 1000.0));
+                        ui.label("d / d_mean");
+                        ui.label(format!("{:.3}", ratio(cur, s)));
+                        ui.end_row();
+                        ui.label("d_min");
+                        ui.label(format!("{:.2} mm", s.d_min * 1000.0));
+                        ui.label("d_mean");
+                        ui.label(format!("{:.2} mm", s.d_mean * 1000.0));
+                        ui.end_row();
+                        ui.label("d_max");
+                        ui.label(format!("{:.2} mm", s.d_max * 1000.0));
+                        ui.label("at home");
+                        ui.label(format!("{:.2} mm", s.home_distance * 1000.0));
+                        ui.end_row();
+                        ui.label("in collision");
+                        ui.label(format!("{:.2}% of samples", s.collision_fraction * 100.0));
+                        ui.end_row();
+                    });
+                    let witness = &s.witness.q;
+                    let usable = witness.len() == viewer.0.dofs().len();
+                    let label = match s.witness.sample {
+                        Some(k) => format!("Go to witness (sample {k}, closest)"),
+                        None => "Go to witness (closest found)".into(),
+                    };
+                    if ui.add_enabled(usable, egui::Button::new(label)).clicked() {
+                        go_to = Some(witness.clone());
+                    }
+                }
+            }
+        });
+    layout.bypass_change_detection().free.max.x = response.response.rect.min.x;
+    if v != *view {
+        *view = v;
+    }
+    if selected != selection.within(m.entries.len()) {
+        selection.0 = selected;
+    }
+    if let Some(q) = go_to {
+        joints.q = q;
+    }
+    Ok(())
+}
