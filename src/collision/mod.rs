@@ -87,8 +87,13 @@ impl CollisionShape {
     }
 
     /// The shape's pose in the world given its link's pose.
+    #[inline]
     pub fn pose(&self, link: &Pose) -> Pose {
-        *link * self.local
+        match self.kind {
+            // A hull's vertices are in the link frame already (`local` is the identity).
+            Kind::Hull(_) => *link,
+            _ => *link * self.local,
+        }
     }
 
     /// The shape's point numbered `anchor` (world frame), posed at `pose`: a hull vertex, or for a
