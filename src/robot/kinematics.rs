@@ -181,6 +181,19 @@ impl Kinematics {
             .fold(Pose::IDENTITY, |pose, &i| pose * self.steps[i].transform(q))
     }
 
+    /// Poses of links `a` and `b` at configuration `q` in the frame of their nearest common ancestor:
+    /// the same relative pose as [`Kinematics::link_pose`] gives both, without the joints they share.
+    pub fn pair_poses(&self, q: &[f64], a: usize, b: usize) -> (Pose, Pose) {
+        let (ca, cb) = (&self.chains[a], &self.chains[b]);
+        let common = ca.iter().zip(cb).take_while(|(x, y)| x == y).count();
+        let pose = |chain: &[usize]| {
+            chain
+                .iter()
+                .fold(Pose::IDENTITY, |pose, &i| pose * self.steps[i].transform(q))
+        };
+        (pose(&ca[common..]), pose(&cb[common..]))
+    }
+
     /// Pose of every link in the root frame at configuration `q`.
     pub fn link_poses(&self, q: &[f64]) -> Vec<Pose> {
         let mut poses = Vec::new();

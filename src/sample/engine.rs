@@ -175,13 +175,15 @@ impl Engine {
         self.pair_at(s, p, q).distance()
     }
 
-    /// Pair `p` of set `s` placed at configuration `q` (forward kinematics of its two links only).
+    /// Pair `p` of set `s` placed at configuration `q` (forward kinematics of its two links only, from
+    /// their common ancestor).
     pub fn pair_at(&self, s: usize, p: usize, q: &[f64]) -> PlacedPair<'_> {
         let set = &self.sets[s];
         let (i, j) = set.pairs[p];
         let (a, b) = (&set.shapes[i as usize], &set.shapes[j as usize]);
-        let link_a = self.kinematics.link_pose(q, set.links[i as usize]);
-        let link_b = self.kinematics.link_pose(q, set.links[j as usize]);
+        let (link_a, link_b) =
+            self.kinematics
+                .pair_poses(q, set.links[i as usize], set.links[j as usize]);
         PlacedPair {
             a,
             b,
