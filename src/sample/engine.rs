@@ -344,8 +344,8 @@ impl Engine {
             known,
         } = *run;
         let k = block.first + kk as u64;
-        let (n, shapes) = (block.len, set.shapes.len());
-        debug_assert_eq!(block.outer[s].len(), n * shapes);
+        let n = block.len;
+        debug_assert_eq!(block.outer[s].len(), n * set.shapes.len());
         let (i, j) = set.pairs[p];
         let (i, j) = (i as usize, j as usize);
         let (a, b) = (&set.shapes[i], &set.shapes[j]);
