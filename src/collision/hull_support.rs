@@ -5,14 +5,69 @@ use crate::math::Vec3;
 use crate::shapes::ConvexMesh;
 use parry3d_f64::shape::SupportMap;
 
+/// Cells per cube-face side of the table of climb starts.
+const CELLS: usize = 4;
+
 /// Vertices, their neighbours (compressed rows: vertex `v`'s are `neighbours[offsets[v]..offsets[v+1]]`),
-/// and the extreme vertices along the six axis directions (climb starts).
+/// and a table of climb starts: the directions are cut into cells by the faces of a cube, each face into
+/// `CELLS` x `CELLS`, and each cell holds the extreme vertex along its centre direction, so a climb
+/// from there takes a step or two.
 #[derive(Debug, Clone)]
 pub struct HullSupport {
     vertices: Vec<Vec3>,
     offsets: Vec<u32>,
     neighbours: Vec<u32>,
-    starts: [u32; 6],
+    starts: Vec<u32>,
+}
+
+/// The cell of direction `dir` (any length, not zero) in the table of climb starts, and for a cell the
+/// direction through its centre.
+mod cells {
+    use super::{CELLS, Vec3};
+
+    /// The cube face (major axis and sign) and the two other coordinates over the major one.
+    #[inline]
+    fn face(dir: Vec3) -> (usize, f64, f64) {
+        let a = dir.abs();
+        let (axis, major, u, v) = if a.x >= a.y && a.x >= a.z {
+            (0, dir.x, dir.y, dir.z)
+        } else if a.y >= a.z {
+            (1, dir.y, dir.z, dir.x)
+        } else {
+            (2, dir.z, dir.x, dir.y)
+        };
+        let m = major.abs();
+        (2 * axis + usize::from(major < 0.0), u / m, v / m)
+    }
+
+    #[inline]
+    fn slot(t: f64) -> usize {
+        // t in [-1, 1] (NaN and rounding clamp to the ends).
+        (((t + 1.0) * 0.5 * CELLS as f64) as usize).min(CELLS - 1)
+    }
+
+    /// The cell of `dir`.
+    #[inline]
+    pub fn of(dir: Vec3) -> usize {
+        let (f, u, v) = face(dir);
+        (f * CELLS + slot(u)) * CELLS + slot(v)
+    }
+
+    /// The direction through the centre of cell `c`.
+    pub fn centre(c: usize) -> Vec3 {
+        let (f, rest) = (c / (CELLS * CELLS), c % (CELLS * CELLS));
+        let mid = |i: usize| (i as f64 + 0.5) / CELLS as f64 * 2.0 - 1.0;
+        let (u, v) = (mid(rest / CELLS), mid(rest % CELLS));
+        let major = if f % 2 == 0 { 1.0 } else { -1.0 };
+        match f / 2 {
+            0 => Vec3::new(major, u, v),
+            1 => Vec3::new(v, major, u),
+            _ => Vec3::new(u, v, major),
+        }
+    }
+
+    /// Number of cells.
+    pub const COUNT: usize = 6 * CELLS * CELLS;
 }
 
 impl HullSupport {
@@ -38,7 +93,9 @@ impl HullSupport {
                 })
                 .unwrap_or(0)
         };
-        let starts = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z].map(extreme);
+        let starts = (0..cells::COUNT)
+            .map(|c| extreme(cells::centre(c)))
+            .collect();
         let mut offsets = vec![0u32];
         for list in &neighbours {
             offsets.push(offsets[offsets.len() - 1] + list.len() as u32);
@@ -84,16 +141,8 @@ impl HullSupport {
 
 impl SupportMap for HullSupport {
     fn local_support_point(&self, dir: Vec3) -> Vec3 {
-        let at = self.starts[match (
-            dir.x.abs() >= dir.y.abs(),
-            dir.y.abs() >= dir.z.abs(),
-            dir.x.abs() >= dir.z.abs(),
-        ) {
-            (true, _, true) => usize::from(dir.x < 0.0),
-            (false, true, _) => 2 + usize::from(dir.y < 0.0),
-            _ => 4 + usize::from(dir.z < 0.0),
-        }];
-        self.vertices[self.support_index_from(dir, at) as usize]
+        let start = self.starts[cells::of(dir)];
+        self.vertices[self.support_index_from(dir, start) as usize]
     }
 }
 

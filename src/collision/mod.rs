@@ -6,11 +6,13 @@
 
 mod hull_support;
 mod load;
+mod window;
 
 pub use hull_support::HullSupport;
 pub use load::ShapeSet;
+pub use window::{Hint, Last, Window, window};
 
-use crate::math::{Pose, Vec3};
+use crate::math::{Pose, Vec3, is_finite};
 use crate::shapes::{ConvexMesh, Geometry};
 use parry3d_f64::query;
 use parry3d_f64::shape::{Ball, Cuboid, SupportMap};
@@ -110,16 +112,21 @@ impl CollisionShape {
     /// (see [`CollisionShape::anchor`]; a hull's search starts from anchor `from`).
     #[inline]
     pub fn support_from(&self, pose: &Pose, dir: Vec3, from: u32) -> (Vec3, u32) {
-        let local = pose.rotation.inverse() * dir;
-        let (p, id) = match &self.kind {
-            Kind::Ball(b) => (local.normalize_or_zero() * b.radius, 0),
-            Kind::Box(c) => (c.local_support_point(local), 0),
+        let (p, id) = self.local_support_from(pose.rotation.inverse() * dir, from);
+        (pose.transform_point(p), id)
+    }
+
+    /// [`CollisionShape::support_from`] in the shape's own frame.
+    #[inline]
+    pub fn local_support_from(&self, dir: Vec3, from: u32) -> (Vec3, u32) {
+        match &self.kind {
+            Kind::Ball(b) => (dir.normalize_or_zero() * b.radius, 0),
+            Kind::Box(c) => (c.local_support_point(dir), 0),
             Kind::Hull(h) => {
-                let id = h.support_index_from(local, from);
+                let id = h.support_index_from(dir, from);
                 (h.vertices()[id as usize], id)
             }
-        };
-        (pose.transform_point(p), id)
+        }
     }
 }
 
@@ -217,68 +224,60 @@ fn inscribed(h: &ConvexMesh) -> (Vec3, f64) {
     (c, if r.is_finite() { r.max(0.0) } else { 0.0 })
 }
 
-/// Where the signed distance of two posed shapes lies against a threshold `t > 0`, as far as GJK has
-/// to go to tell: it stops as soon as a support point proves the distance above `t`, or the simplex
-/// proves it at most `t`, long before it would converge on the distance itself.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Versus {
-    /// The shapes overlap (signed distance `<= 0`).
-    Overlap,
-    /// Apart, by at most `t`.
-    Within,
-    /// Apart by more than `t`.
-    Beyond,
-}
-
-/// Decides [`Versus`] for `t > 0` with the same GJK start as [`signed_distance`].
-pub fn versus(a: &CollisionShape, pa: &Pose, b: &CollisionShape, pb: &Pose, t: f64) -> Versus {
-    if let (Kind::Ball(_), Kind::Ball(_)) = (&a.kind, &b.kind) {
-        let d = signed_distance(a, pa, b, pb);
-        return if d <= 0.0 {
-            Versus::Overlap
-        } else if d <= t {
-            Versus::Within
-        } else {
-            Versus::Beyond
-        };
-    }
-    let pos12 = pa.inv_mul(pb);
-    let (g1, g2) = (a.support_map(), b.support_map());
-    let dir = (-pos12.translation).normalize_or(Vec3::X);
-    let mut simplex = query::gjk::VoronoiSimplex::new();
-    simplex.reset(query::gjk::CsoPoint::from_shapes(&pos12, g1, g2, dir));
-    match query::gjk::closest_points(&pos12, g1, g2, t, false, &mut simplex) {
-        query::gjk::GJKResult::Intersection => Versus::Overlap,
-        query::gjk::GJKResult::NoIntersection(_) => Versus::Beyond,
-        _ => Versus::Within,
-    }
-}
-
 /// Exact signed distance between two posed shapes (see the module doc for the sign). The shapes are in
 /// collision exactly when the result is `<= 0.0`: one GJK decides, and only overlapping pairs pay for
 /// the penetration depth (EPA, or the separating-axis test between two boxes).
 pub fn signed_distance(a: &CollisionShape, pa: &Pose, b: &CollisionShape, pb: &Pose) -> f64 {
+    signed_distance_hinted(a, pa, b, pb, &mut Hint::default())
+}
+
+/// [`signed_distance`], leaving in `hint` what it found: the closest points when the shapes are apart,
+/// the direction of the penetration when they overlap.
+pub fn signed_distance_hinted(
+    a: &CollisionShape,
+    pa: &Pose,
+    b: &CollisionShape,
+    pb: &Pose,
+    hint: &mut Hint,
+) -> f64 {
     if let (Kind::Ball(ba), Kind::Ball(bb)) = (&a.kind, &b.kind) {
         // Exact in closed form, and the most frequent query of the sphere types.
         return pa.translation.distance(pb.translation) - ba.radius - bb.radius;
     }
     // GJK on support maps for every other pair. (parry's dedicated cuboid-cuboid distance derives
     // closest points from a separating axis and was measured off by up to 1.7 cm, see
-    // tests/exactness.rs.)
+    // tests/exactness.rs.) The same steps as parry's support-map distance, keeping the points.
     let pos12 = pa.inv_mul(pb);
-    let d =
-        query::details::distance_support_map_support_map(&pos12, a.support_map(), b.support_map());
+    let (g1, g2) = (a.support_map(), b.support_map());
+    let mut simplex = window::start_simplex(&pos12, g1, g2);
+    let d = match query::gjk::closest_points(&pos12, g1, g2, f64::MAX, true, &mut simplex) {
+        query::gjk::GJKResult::ClosestPoints(p1, p2, _) => {
+            let d = (p1 - p2).length();
+            if d > 0.0 {
+                hint.last = Last::Apart([p1, pos12.inverse_transform_point(p2)]);
+            }
+            d
+        }
+        // Overlap, or (never seen) no convergence: the penetration query below decides.
+        _ => 0.0,
+    };
     if d > 0.0 {
         return d;
     }
     let contact = match (&a.kind, &b.kind) {
-        (Kind::Box(ca), Kind::Box(cb)) => query::contact(pa, ca, pb, cb, 0.0).ok().flatten(),
-        _ => query::details::contact_support_map_support_map(
-            &pos12,
-            a.support_map(),
-            b.support_map(),
-            0.0,
-        ),
+        // World frame, so the normal goes back into a's.
+        (Kind::Box(ca), Kind::Box(cb)) => query::contact(pa, ca, pb, cb, 0.0)
+            .ok()
+            .flatten()
+            .map(|c| (c.dist, pa.rotation.inverse() * c.normal1)),
+        _ => query::details::contact_support_map_support_map(&pos12, g1, g2, 0.0)
+            .map(|c| (c.dist, c.normal1)),
     };
-    contact.map_or(0.0, |c| c.dist.min(0.0))
+    let Some((dist, normal)) = contact else {
+        return 0.0;
+    };
+    if dist <= 0.0 && is_finite(normal) {
+        hint.last = Last::Overlap(normal);
+    }
+    dist.min(0.0)
 }

@@ -5,7 +5,8 @@ use super::rng::Rng;
 use super::stats::PairStats;
 use super::table::{self, Table};
 use crate::collision::{
-    CollisionShape, ShapeSet, Versus, axis_bounds, signed_distance, sphere_bounds, versus,
+    CollisionShape, Hint, Last, ShapeSet, Window, axis_bounds, signed_distance,
+    signed_distance_hinted, sphere_bounds, window,
 };
 use crate::error::Result;
 use crate::math::{Pose, Vec3};
@@ -56,9 +57,9 @@ pub struct ChunkRun<'a> {
     pub mean_budget: &'a [Vec<u64>],
     /// A sample is skipped for the extremes only when it cannot change them by more than this.
     pub tol: f64,
-    /// Per set and pair, statistics over samples every run contains (the pilot, samples `0..PILOT`),
-    /// or empty: the run's minimum and maximum are at least as extreme as theirs, so no chunk needs an
-    /// exact query for a sample that could not beat them either.
+    /// Per set and pair, statistics over samples every run contains (the scout's, see
+    /// [`Engine::scout`]), or empty: the run's minimum and maximum are at least as extreme as theirs,
+    /// so no chunk needs an exact query for a sample that could not beat them either.
     pub known: &'a [Vec<PairStats>],
 }
 
@@ -99,8 +100,8 @@ pub struct Block {
 #[derive(Default)]
 pub struct Scratch {
     block: Block,
-    /// Per set and pair, the anchors (hull vertices) of the last bounds found in this chunk.
-    anchors: Vec<Vec<[u32; 2]>>,
+    /// Per set and pair, what the pair's last queries in this chunk left for its next sample.
+    hints: Vec<Vec<Hint>>,
 }
 
 impl Engine {
@@ -242,7 +243,15 @@ impl Engine {
                                 tol: 0.0,
                                 known: None,
                             };
-                            self.observe_block(set, s, p, &block, &run, &mut [0, 0], &mut st);
+                            self.observe_block(
+                                set,
+                                s,
+                                p,
+                                &block,
+                                &run,
+                                &mut Hint::default(),
+                                &mut st,
+                            );
                         }
                         st
                     })
@@ -251,52 +260,91 @@ impl Engine {
             .collect()
     }
 
+    /// Continues `stats` (statistics of samples `0..start` per set and pair, `start` a multiple of the
+    /// block length) through samples `start..end`, every pair running through them in order with its
+    /// own hint, in parallel over pairs: a chunk's work, but with the extremes and hints of all the
+    /// samples before, so the extremes it ends with are close to the run's and prune every later chunk
+    /// (see [`ChunkRun::known`]). `run.known` is not used.
+    pub fn scout(&self, run: &ChunkRun, start: u64, end: u64, stats: &mut [Vec<PairStats>]) {
+        debug_assert_eq!(start % BLOCK as u64, 0);
+        let mut hints: Vec<Vec<Hint>> = self
+            .sets
+            .iter()
+            .map(|set| vec![Hint::default(); set.pairs.len()])
+            .collect();
+        let (mut block, mut skipped) = (Block::default(), Vec::new());
+        for chunk in 0..end.div_ceil(CHUNK) {
+            let mut rng = Rng::new(run.seed, chunk);
+            let (mut at, last) = (chunk * CHUNK, ((chunk + 1) * CHUNK).min(end));
+            while at < last {
+                let len = (last - at).min(BLOCK as u64) as usize;
+                if at < start {
+                    (0..len).for_each(|_| self.draw(&mut rng, &mut skipped));
+                    at += len as u64;
+                    continue;
+                }
+                self.place(&mut rng, at, len, &mut block);
+                for (s, (set, (stats, hints))) in self
+                    .sets
+                    .iter()
+                    .zip(stats.iter_mut().zip(&mut hints))
+                    .enumerate()
+                {
+                    stats
+                        .par_iter_mut()
+                        .zip(hints.par_iter_mut())
+                        .enumerate()
+                        .filter(|(p, _)| set.moving[*p])
+                        .for_each(|(p, (st, hint))| {
+                            let pair_run = PairRun {
+                                mean_budget: run.mean_budget[s][p],
+                                tol: run.tol,
+                                known: None,
+                            };
+                            self.observe_block(set, s, p, &block, &pair_run, hint, st);
+                        });
+                }
+                at += len as u64;
+            }
+        }
+    }
+
     /// Samples chunk `chunk` (samples `chunk*CHUNK ..` up to `run.total`) into `acc[set][pair]`, which
-    /// must hold the statistics of the chunk's first `done` samples (empty for `done == 0`): with
-    /// `run.tol > 0` which samples get exact queries depends on what the chunk has seen, so each chunk
-    /// is computed alone and merged, keeping results independent of threads and shards. Rigid pairs are
-    /// skipped here (the caller computes them once).
+    /// must be empty: with `run.tol > 0` which samples get exact queries depends on what the chunk has
+    /// seen, so each chunk is computed alone and merged, keeping results independent of threads and
+    /// shards. Rigid pairs are skipped here (the caller computes them once).
     pub fn run_chunk(
         &self,
         run: &ChunkRun,
         chunk: u64,
-        done: u64,
         acc: &mut [Vec<PairStats>],
         scratch: &mut Scratch,
     ) {
         let mut rng = Rng::new(run.seed, chunk);
         let first = chunk * CHUNK;
         let last = (first + CHUNK).min(run.total);
-        // Anchors start afresh in every chunk, so a chunk's result does not depend on the worker.
-        scratch.anchors.resize(self.sets.len(), Vec::new());
-        for (anchors, set) in scratch.anchors.iter_mut().zip(&self.sets) {
-            anchors.clear();
-            anchors.resize(set.pairs.len(), [0, 0]);
-        }
-        let mut skipped = Vec::new();
-        for _ in 0..done {
-            self.draw(&mut rng, &mut skipped);
+        // Hints start afresh in every chunk, so a chunk's result does not depend on the worker.
+        scratch.hints.resize(self.sets.len(), Vec::new());
+        for (hints, set) in scratch.hints.iter_mut().zip(&self.sets) {
+            hints.clear();
+            hints.resize(set.pairs.len(), Hint::default());
         }
         let block = &mut scratch.block;
-        let mut start = first + done;
+        let mut start = first;
         while start < last {
             let len = (last - start).min(BLOCK as u64) as usize;
             self.place(&mut rng, start, len, block);
-            let sets = self
-                .sets
-                .iter()
-                .zip(acc.iter_mut())
-                .zip(&mut scratch.anchors);
-            for (s, ((set, stats), anchors)) in sets.enumerate() {
+            let sets = self.sets.iter().zip(acc.iter_mut()).zip(&mut scratch.hints);
+            for (s, ((set, stats), hints)) in sets.enumerate() {
                 let known = run.known.get(s);
-                for (p, (st, anchor)) in stats.iter_mut().zip(anchors.iter_mut()).enumerate() {
+                for (p, (st, hint)) in stats.iter_mut().zip(hints.iter_mut()).enumerate() {
                     if set.moving[p] {
                         let pair_run = PairRun {
                             mean_budget: run.mean_budget[s][p],
                             tol: run.tol,
                             known: known.map(|v| &v[p]),
                         };
-                        self.observe_block(set, s, p, block, &pair_run, anchor, st);
+                        self.observe_block(set, s, p, block, &pair_run, hint, st);
                     }
                 }
             }
@@ -313,11 +361,61 @@ impl Engine {
         p: usize,
         block: &Block,
         run: &PairRun,
-        anchors: &mut [u32; 2],
+        hint: &mut Hint,
         st: &mut PairStats,
     ) {
-        for kk in 0..block.len {
-            self.observe(set, s, p, block, kk, run, anchors, st);
+        // First the cheap bounds of every sample, in one pass of independent loads and arithmetic
+        // (the table lookups miss the cache, and here the misses overlap), then the samples in order.
+        // (The pilot's block is longer than BLOCK: it goes BLOCK samples at a time.)
+        let mut bounds = [(0.0, 0.0); BLOCK];
+        for from in (0..block.len).step_by(BLOCK) {
+            let bounds = &mut bounds[..BLOCK.min(block.len - from)];
+            self.cheap_bounds(set, s, p, block, from, bounds);
+            for (kk, &bound) in (from..).zip(bounds.iter()) {
+                // The control bound of the mean estimate: the same cheap bound for every sample.
+                st.observe_bound(control(bound));
+                self.observe(set, s, p, block, kk, bound, run, hint, st);
+            }
+        }
+    }
+
+    /// Bounds `(lower, upper)` on the signed distance of moving pair `p` of set `s` at samples `from..`
+    /// of `block`, one per element of `out`: from the enclosing spheres (lower) and the inscribed ones
+    /// (upper; see `collision` for why both hold with penetration too), and from the pair's table if
+    /// it has one.
+    fn cheap_bounds(
+        &self,
+        set: &TypeSet,
+        s: usize,
+        p: usize,
+        block: &Block,
+        from: usize,
+        out: &mut [(f64, f64)],
+    ) {
+        let n = block.len;
+        debug_assert_eq!(block.outer[s].len(), n * set.shapes.len());
+        let (i, j) = set.pairs[p];
+        let (i, j) = (i as usize, j as usize);
+        let (a, b) = (&set.shapes[i], &set.shapes[j]);
+        let (outer, inner) = (&block.outer[s], &block.inner[s]);
+        let (oa, ob) = (
+            &outer[i * n + from..(i + 1) * n],
+            &outer[j * n + from..(j + 1) * n],
+        );
+        let (ia, ib) = (
+            &inner[i * n + from..(i + 1) * n],
+            &inner[j * n + from..(j + 1) * n],
+        );
+        for (kk, out) in out.iter_mut().enumerate() {
+            *out = sphere_bounds(a, oa[kk], ia[kk], b, ob[kk], ib[kk]);
+        }
+        if let Some(t) = &set.tables[p] {
+            let dofs = self.kinematics.dofs().len();
+            for (kk, (lower, upper)) in (from..).zip(out.iter_mut()) {
+                let (lo, hi) = t.bounds(block.q[kk * dofs + t.dof]);
+                *lower = lower.max(lo);
+                *upper = upper.min(hi);
+            }
         }
     }
 
@@ -334,8 +432,9 @@ impl Engine {
         p: usize,
         block: &Block,
         kk: usize,
+        (mut lower, mut upper): (f64, f64),
         run: &PairRun,
-        anchors: &mut [u32; 2],
+        hint: &mut Hint,
         st: &mut PairStats,
     ) {
         let PairRun {
@@ -344,25 +443,10 @@ impl Engine {
             known,
         } = *run;
         let k = block.first + kk as u64;
-        let n = block.len;
-        debug_assert_eq!(block.outer[s].len(), n * set.shapes.len());
+        let control = control((lower, upper));
         let (i, j) = set.pairs[p];
         let (i, j) = (i as usize, j as usize);
         let (a, b) = (&set.shapes[i], &set.shapes[j]);
-        let (outer, inner) = (&block.outer[s], &block.inner[s]);
-        let (oi, oj) = (outer[i * n + kk], outer[j * n + kk]);
-        // Sphere bounds on the signed distance: lower from the enclosing spheres, upper from the
-        // inscribed ones (see `collision` for why both hold with penetration too).
-        let (mut lower, mut upper) =
-            sphere_bounds(a, oi, inner[i * n + kk], b, oj, inner[j * n + kk]);
-        if let Some(t) = &set.tables[p] {
-            let (lo, hi) = t.bounds(block.q[kk * self.kinematics.dofs().len() + t.dof]);
-            lower = lower.max(lo);
-            upper = upper.min(hi);
-        }
-        // The control bound of the mean estimate: the same cheap bound for every sample.
-        let control = if lower.is_finite() { lower } else { 0.0 };
-        st.observe_bound(control);
         let exact_mean = k < mean_budget;
         let need_min = |lower: f64, st: &PairStats| {
             st.could_lower_min(lower, k, tol)
@@ -387,53 +471,66 @@ impl Engine {
         let poses = &block.links[kk * self.robot.links.len()..];
         let (pa, pb) = (a.pose(&poses[set.links[i]]), b.pose(&poses[set.links[j]]));
         if !exact_mean {
-            // The points that bounded this pair at its last sample are still two points of the
-            // shapes: their distance is a cheap upper bound.
-            let (xa, xb) = (a.anchor(&pa, anchors[0]), b.anchor(&pb, anchors[1]));
-            upper = upper.min(xa.distance(xb));
+            // The points that bounded this pair at its last sample, and the closest points of its
+            // last exact query, are still points of the shapes: their distances are cheap upper
+            // bounds.
+            let (xa, xb) = (
+                a.anchor(&pa, hint.anchors[0]),
+                b.anchor(&pb, hint.anchors[1]),
+            );
+            let (near, last_axis) = hint.bounds(&pa, &pb);
+            upper = upper.min(xa.distance(xb)).min(near);
             if !needs_exact(lower, upper, st) {
                 st.collisions += u64::from(upper < 0.0);
                 return;
             }
-            // The shapes' extreme points along the line between the centres tighten both bounds.
-            let axis = (oj - oi).normalize_or(Vec3::Z);
-            let (lo, hi) = axis_bounds(a, &pa, b, &pb, axis, anchors);
-            lower = lower.max(lo);
-            upper = upper.min(hi);
-            if !needs_exact(lower, upper, st) {
-                st.collisions += u64::from(upper < 0.0);
-                return;
+            // The shapes' extreme points along the last penetration's direction (or the line between
+            // the centres) tighten both bounds. After a query that ended apart this is the first
+            // step of the GJK below, which starts from its points.
+            if !matches!(hint.last, Last::Apart(_)) {
+                let n = block.len;
+                let (oi, oj) = (block.outer[s][i * n + kk], block.outer[s][j * n + kk]);
+                let axis = last_axis.unwrap_or_else(|| (oj - oi).normalize_or(Vec3::Z));
+                let (lo, hi) = axis_bounds(a, &pa, b, &pb, axis, &mut hint.anchors);
+                lower = lower.max(lo);
+                upper = upper.min(hi);
+                if !needs_exact(lower, upper, st) {
+                    st.collisions += u64::from(upper < 0.0);
+                    return;
+                }
             }
-            // One side left open: a GJK that stops once it knows the side of a threshold.
-            let (open_min, open_max) = (need_min(lower, st), need_max(upper, st));
-            let min_threshold = st.min.min(known.map_or(f64::INFINITY, |n| n.min)) - tol;
-            let max_threshold = st.max.max(known.map_or(f64::NEG_INFINITY, |n| n.max)) + tol;
-            let decided = match (open_min, open_max) {
-                // Only the verdict: any positive threshold tells overlap from separation.
-                (false, false) => Some(versus(a, &pa, b, &pb, f64::MIN_POSITIVE)),
-                // Beyond a positive threshold under the minimum: no new minimum, no collision.
-                (true, false) if min_threshold > 0.0 => {
-                    Some(versus(a, &pa, b, &pb, min_threshold)).filter(|v| *v == Versus::Beyond)
-                }
-                // Within the maximum (and its tolerance, so no tie can move the witness): no new
-                // maximum; an overlap is a collision that cannot be a new minimum either.
-                (false, true) if tol > 0.0 && max_threshold > 0.0 => {
-                    Some(versus(a, &pa, b, &pb, max_threshold)).filter(|v| *v != Versus::Beyond)
-                }
-                _ => None,
+            // Still open: a GJK that stops once it knows the distance lies between the extremes (and
+            // on which side of zero).
+            let lo = if need_min(lower, st) {
+                st.min.min(known.map_or(f64::INFINITY, |n| n.min)) - tol
+            } else {
+                f64::NEG_INFINITY
             };
-            if let Some(v) = decided {
-                st.collisions += u64::from(v == Versus::Overlap);
+            let hi = if need_max(upper, st) {
+                st.max.max(known.map_or(f64::NEG_INFINITY, |n| n.max)) + tol
+            } else {
+                f64::INFINITY
+            };
+            if let Window::Inside { overlap } = window(a, &pa, b, &pb, lo, hi, (lower, upper), hint)
+            {
+                st.collisions += u64::from(overlap);
                 return;
             }
         }
-        let d = signed_distance(a, &pa, b, &pb);
+        let d = signed_distance_hinted(a, &pa, b, &pb, hint);
         st.observe_extremes(d, k);
         if exact_mean {
             st.observe_mean(d, control);
         }
         st.collisions += u64::from(d <= 0.0);
     }
+}
+
+/// The control bound of the mean estimate of a sample with cheap bounds `bound`: the lower one (0 where
+/// it is not finite).
+#[inline]
+fn control((lower, _): (f64, f64)) -> f64 {
+    if lower.is_finite() { lower } else { 0.0 }
 }
 
 /// Two shapes of a pair with their links' poses at some configuration.

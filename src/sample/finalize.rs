@@ -15,6 +15,9 @@ use std::collections::{BTreeSet, HashMap};
 /// Samples of the pilot run that sizes each pair's exact-mean budget: the first samples of chunk 0.
 const PILOT: u64 = 256;
 
+/// Samples of the scout run (see [`Engine::scout`]): the first chunks, whose extremes prune the others.
+const SCOUT: u64 = 4 * CHUNK;
+
 /// The pilot's statistics (see [`Engine::pilot`]) and, per pair, how many leading samples enter its
 /// mean estimate exactly: enough for a 3-sigma error under 1% of the mean (residual spread after the
 /// control bound, judged from the pilot), at least [`PILOT`]; a pair that would need more than
@@ -57,8 +60,10 @@ pub(super) fn mean_budgets(
     (pilot, budgets)
 }
 
-/// Runs the chunks in parallel. Each chunk starts from empty accumulators, chunk 0 from the pilot's
-/// (see [`Engine::run_chunk`]); chunk results merge exactly in any order.
+/// Runs the chunks in parallel. The first [`SCOUT`] samples go first, pair by pair (see
+/// [`Engine::scout`]), from the pilot's statistics; their statistics are chunk 0's, and prune every
+/// later chunk, which starts from empty accumulators (see [`Engine::run_chunk`]). Chunk results merge
+/// exactly in any order. Every shard runs the scout, and only the shard of chunk 0 keeps it.
 pub(super) fn accumulate(
     engine: &Engine,
     opts: &SampleOptions,
@@ -73,13 +78,21 @@ pub(super) fn accumulate(
             .collect()
     };
     let (pilot, budgets) = mean_budgets(engine, opts);
-    let run = engine::ChunkRun {
+    let mut run = engine::ChunkRun {
         seed: opts.seed,
         total: opts.samples,
         mean_budget: &budgets,
         tol: opts.tolerance,
-        known: &pilot,
+        known: &[],
     };
+    let scouted = SCOUT.min(opts.samples);
+    let (mut known, start) = if pilot.is_empty() {
+        (empty(), 0)
+    } else {
+        (pilot, PILOT)
+    };
+    engine.scout(&run, start, scouted, &mut known);
+    run.known = &known;
     let merge = |mut a: Vec<Vec<PairStats>>, b: &[Vec<PairStats>]| {
         for (x, y) in a.iter_mut().zip(b) {
             x.iter_mut().zip(y).for_each(|(s, o)| s.merge(o));
@@ -91,14 +104,17 @@ pub(super) fn accumulate(
         .fold(
             || (empty(), empty(), engine::Scratch::default()),
             |(total, mut chunk, mut scratch), &c| {
-                let done = if c == 0 && !pilot.is_empty() {
-                    chunk.clone_from_slice(&pilot);
-                    PILOT
+                if c * CHUNK < scouted {
+                    // The scout's samples: chunk 0 carries all of them.
+                    if c == 0 {
+                        chunk.clone_from_slice(&known);
+                    } else {
+                        chunk.iter_mut().for_each(|v| v.fill(PairStats::default()));
+                    }
                 } else {
                     chunk.iter_mut().for_each(|v| v.fill(PairStats::default()));
-                    0
-                };
-                engine.run_chunk(&run, c, done, &mut chunk, &mut scratch);
+                    engine.run_chunk(&run, c, &mut chunk, &mut scratch);
+                }
                 progress.advance(CHUNK.min(opts.samples - c * CHUNK));
                 (merge(total, &chunk), chunk, scratch)
             },

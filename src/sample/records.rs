@@ -55,7 +55,7 @@ pub struct PairRecord {
     pub d_min: f64,
     /// Mean signed distance (m) over the first `mean_samples` samples (exact distances).
     pub d_mean: f64,
-    /// Samples in `d_mean`: enough for a 3-sigma error under 1% (from a 512-sample pilot), capped by
+    /// Samples in `d_mean`: enough for a 3-sigma error under 1% (from a 256-sample pilot), capped by
     /// the file's `mean_samples`.
     pub mean_samples: u64,
     /// Maximum signed distance (m).

@@ -1,0 +1,202 @@
+//! Deciding where a pair's signed distance lies against a window `(lo, hi)` with only as many GJK
+//! steps as that takes, and the hints one query leaves for the pair's next sample.
+//!
+//! Sampling needs an exact distance only where a sample could be a new minimum or maximum; elsewhere
+//! it needs to know that the distance lies between them (and on which side of zero). GJK brackets the
+//! distance from its first step: every simplex point is a point of the configuration-space obstacle, so
+//! its distance from the origin bounds the distance from above, and every support point bounds it from
+//! below. [`window`] stops as soon as the bracket lies inside the window, or proves it cannot.
+
+use super::{CollisionShape, Kind, signed_distance_hinted};
+use crate::math::{Pose, Vec3};
+use parry3d_f64::query::gjk::{self, CsoPoint, VoronoiSimplex};
+use parry3d_f64::shape::SupportMap;
+
+/// What a pair's last queries leave behind for its next sample: the anchors its extreme-point searches
+/// start from (see [`CollisionShape::anchor`]), and what the last exact query found.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Hint {
+    /// Anchor numbers of the two shapes.
+    pub anchors: [u32; 2],
+    /// The last query's finding.
+    pub last: Last,
+}
+
+/// What a pair's last query found, in the shapes' own frames, so that it holds in any pose.
+#[derive(Debug, Clone, Copy, Default)]
+pub enum Last {
+    /// Nothing yet.
+    #[default]
+    None,
+    /// The shapes were apart: a point of each (shape frames), the closest ones or, after a query that
+    /// stopped early, the points its search had reached.
+    Apart([Vec3; 2]),
+    /// The shapes overlapped: the direction of the penetration (frame of shape `a`, towards `b`).
+    Overlap(Vec3),
+}
+
+impl Hint {
+    /// With the shapes posed at `pa`, `pb`: the distance between the last two points (points of the
+    /// shapes in any pose, so an upper bound on the signed distance), and the axis (from `a` towards
+    /// `b`) along which the last query found the shapes apart or overlapping, a good axis for
+    /// [`super::axis_bounds`] when the pair moved little.
+    #[inline]
+    pub fn bounds(&self, pa: &Pose, pb: &Pose) -> (f64, Option<Vec3>) {
+        match self.last {
+            Last::None => (f64::INFINITY, None),
+            Last::Apart([p, q]) => {
+                let (wa, wb) = (pa.transform_point(p), pb.transform_point(q));
+                (wa.distance(wb), (wb - wa).try_normalize())
+            }
+            Last::Overlap(n) => (f64::INFINITY, Some(pa.rotation * n)),
+        }
+    }
+}
+
+/// What [`window`] decided.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Window {
+    /// The signed distance lies strictly inside the window; `overlap` tells whether it is `<= 0`.
+    Inside {
+        /// Whether the shapes overlap.
+        overlap: bool,
+    },
+    /// Not decided: the distance may lie outside the window (or GJK converged before telling), so an
+    /// exact query has to.
+    Open,
+}
+
+/// Most GJK steps before giving up (parry's GJK allows as many).
+const MAX_STEPS: usize = 100;
+
+/// Decides whether the signed distance of two posed shapes lies strictly inside `(lo, hi)` (either end
+/// may be infinite) and, if so, whether they overlap. `bounds` are bounds on the distance already known
+/// (lower, upper); they count as GJK's own. The search starts from the hint's points when it has them,
+/// else as parry's distance query starts, and leaves its last points in `hint` when it ends apart.
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+pub fn window(
+    a: &CollisionShape,
+    pa: &Pose,
+    b: &CollisionShape,
+    pb: &Pose,
+    lo: f64,
+    hi: f64,
+    bounds: (f64, f64),
+    hint: &mut Hint,
+) -> Window {
+    let inside = |d: f64| lo < d && d < hi;
+    if let (Kind::Ball(_), Kind::Ball(_)) = (&a.kind, &b.kind) {
+        let d = signed_distance_hinted(a, pa, b, pb, hint);
+        return if inside(d) {
+            Window::Inside { overlap: d <= 0.0 }
+        } else {
+            Window::Open
+        };
+    }
+    let pos12 = pa.inv_mul(pb);
+    let (g1, g2) = (a.support_map(), b.support_map());
+    let mut simplex = match hint.last {
+        Last::Apart([p, q]) => {
+            let mut simplex = VoronoiSimplex::new();
+            simplex.reset(CsoPoint::new(p, pos12.transform_point(q)));
+            simplex
+        }
+        _ => start_simplex(&pos12, g1, g2),
+    };
+    let (mut lower, mut upper) = bounds;
+    let mut anchors = hint.anchors;
+    let eps = gjk::eps_tol();
+    let eps_rel = eps.sqrt();
+    let mut last_dist = f64::INFINITY;
+    // Whether the simplex's projection coordinates are those of its current points.
+    let mut projected = false;
+    for _ in 0..MAX_STEPS {
+        let proj = simplex.project_origin_and_reduce();
+        let dist = proj.length();
+        projected = true;
+        if dist <= eps || simplex.dimension() == 3 {
+            // The origin is on or inside the simplex: the shapes overlap, and `lower` (a gap along
+            // some axis, minus the depth along it) still bounds the signed distance from below.
+            hint.anchors = anchors;
+            return if lo < lower && 0.0 < hi {
+                Window::Inside { overlap: true }
+            } else {
+                Window::Open
+            };
+        }
+        if dist >= last_dist {
+            // No progress (rounding): an exact query decides.
+            break;
+        }
+        last_dist = dist;
+        upper = upper.min(dist);
+        let dir = -proj / dist;
+        // The supports climb from the last ones: GJK's directions change little from step to step.
+        let (sa, ia) = a.local_support_from(dir, anchors[0]);
+        let (sb, ib) = b.local_support_from(pos12.rotation.inverse() * -dir, anchors[1]);
+        anchors = [ia, ib];
+        let support = CsoPoint::new(sa, pos12.transform_point(sb));
+        lower = lower.max(-dir.dot(support.point));
+        // The support point is a point of the obstacle too.
+        upper = upper.min(support.point.length());
+        let verdict = if lower > 0.0 {
+            Some(false)
+        } else if upper <= 0.0 {
+            Some(true)
+        } else {
+            None
+        };
+        if upper <= lo || lower >= hi {
+            // Outside for sure: a new extreme, which needs its exact value.
+            break;
+        }
+        if let (Some(overlap), true) = (verdict, lo < lower && upper < hi) {
+            hint.anchors = anchors;
+            hint.last = Last::Apart(simplex_points(&simplex, &pos12));
+            return Window::Inside { overlap };
+        }
+        if upper - lower <= eps_rel * upper || !simplex.add_point(support) {
+            // Converged, or stalled, without a decision.
+            break;
+        }
+        projected = false;
+    }
+    hint.anchors = anchors;
+    if projected {
+        hint.last = Last::Apart(simplex_points(&simplex, &pos12));
+    }
+    Window::Open
+}
+
+/// A GJK simplex started as parry's distance query starts it: one support point along the line
+/// between the shapes' origins.
+pub(super) fn start_simplex(
+    pos12: &Pose,
+    g1: &dyn SupportMap,
+    g2: &dyn SupportMap,
+) -> VoronoiSimplex {
+    let dir = -pos12.translation;
+    let eps = parry3d_f64::math::DEFAULT_EPSILON;
+    let dir = if dir.length_squared() > eps * eps {
+        dir.normalize()
+    } else {
+        Vec3::X
+    };
+    let mut simplex = VoronoiSimplex::new();
+    simplex.reset(CsoPoint::from_shapes(pos12, g1, g2, dir));
+    simplex
+}
+
+/// The points of each shape (in its own frame) that the simplex's last projection of the origin
+/// combines: real points of the shapes, whatever the state of the search. The simplex must not be a
+/// full tetrahedron (whose projection has no coordinates).
+fn simplex_points(simplex: &VoronoiSimplex, pos12: &Pose) -> [Vec3; 2] {
+    let (mut p1, mut p2) = (Vec3::ZERO, Vec3::ZERO);
+    for i in 0..=simplex.dimension() {
+        let (c, pt) = (simplex.proj_coord(i), simplex.point(i));
+        p1 += pt.orig1 * c;
+        p2 += pt.orig2 * c;
+    }
+    [p1, pos12.inverse_transform_point(p2)]
+}
