@@ -122,19 +122,41 @@ impl HullSupport {
         let mut at = start as usize;
         let mut best = self.vertices[at].dot(dir);
         loop {
-            let mut moved = false;
+            // The best neighbour (the first of equals), from two running maxima, over the even and
+            // the odd neighbours, so that each comparison waits on half as many before it.
             let (from, to) = (self.offsets[at] as usize, self.offsets[at + 1] as usize);
-            for &n in &self.neighbours[from..to] {
-                let d = self.vertices[n as usize].dot(dir);
-                if d > best {
-                    best = d;
-                    at = n as usize;
-                    moved = true;
+            let around = &self.neighbours[from..to];
+            // (value, vertex, position among the neighbours; none before any is higher)
+            let mut even = (best, at, usize::MAX);
+            let mut odd = even;
+            let mut pairs = around.chunks_exact(2);
+            for (k, pair) in (&mut pairs).enumerate() {
+                let (n0, n1) = (pair[0] as usize, pair[1] as usize);
+                let (d0, d1) = (self.vertices[n0].dot(dir), self.vertices[n1].dot(dir));
+                if d0 > even.0 {
+                    even = (d0, n0, 2 * k);
+                }
+                if d1 > odd.0 {
+                    odd = (d1, n1, 2 * k + 1);
                 }
             }
-            if !moved {
+            if let [n] = pairs.remainder() {
+                let d = self.vertices[*n as usize].dot(dir);
+                if d > even.0 {
+                    even = (d, *n as usize, around.len() - 1);
+                }
+            }
+            // On a tie the earlier neighbour wins, as in one pass over them.
+            let next = if odd.0 > even.0 || (odd.0 == even.0 && odd.2 < even.2) {
+                odd
+            } else {
+                even
+            };
+            if next.1 == at {
                 return at as u32;
             }
+            let next = (next.0, next.1);
+            (best, at) = next;
         }
     }
 }
