@@ -155,8 +155,7 @@ impl HullSupport {
             if next.1 == at {
                 return at as u32;
             }
-            let next = (next.0, next.1);
-            (best, at) = next;
+            (best, at) = (next.0, next.1);
         }
     }
 }

@@ -74,7 +74,6 @@ const MAX_STEPS: usize = 100;
 /// (lower, upper); they count as GJK's own. The search starts from the hint's points when it has them,
 /// else as parry's distance query starts, and leaves its last points in `hint` when it ends apart.
 #[allow(clippy::too_many_arguments)]
-#[inline(never)]
 pub fn window(
     a: &CollisionShape,
     pa: &Pose,
