@@ -16,7 +16,7 @@ use std::collections::{BTreeSet, HashMap};
 const PILOT: u64 = 256;
 
 /// Samples of the scout run (see [`Engine::scout`]): the first chunks, whose extremes prune the others.
-const SCOUT: u64 = 4 * CHUNK;
+const SCOUT: u64 = 16 * CHUNK;
 
 /// The pilot's statistics (see [`Engine::pilot`]) and, per pair, how many leading samples enter its
 /// mean estimate exactly: enough for a 3-sigma error under 1% of the mean (residual spread after the
