@@ -18,6 +18,8 @@ pub struct HullSupport {
     offsets: Vec<u32>,
     neighbours: Vec<u32>,
     starts: Vec<u32>,
+    /// Face planes `(n, d)`: `n . x <= d` inside, `n` a unit vector.
+    planes: Vec<(Vec3, f64)>,
 }
 
 /// The cell of direction `dir` (any length, not zero) in the table of climb starts, and for a cell the
@@ -105,12 +107,21 @@ impl HullSupport {
             offsets,
             neighbours: neighbours.concat(),
             starts,
+            planes: mesh.planes(),
         }
     }
 
     /// The vertices.
     pub fn vertices(&self) -> &[Vec3] {
         &self.vertices
+    }
+
+    /// How deep `p` lies inside: its distance to the nearest face plane (negative outside).
+    pub fn depth(&self, p: Vec3) -> f64 {
+        self.planes
+            .iter()
+            .map(|(n, d)| d - n.dot(p))
+            .fold(f64::INFINITY, f64::min)
     }
 }
 

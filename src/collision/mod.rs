@@ -116,6 +116,16 @@ impl CollisionShape {
         (pose.transform_point(p), id)
     }
 
+    /// How deep the point `p` (shape frame) lies inside the shape: the radius of the largest ball
+    /// around it that the shape contains (negative outside).
+    pub fn depth(&self, p: Vec3) -> f64 {
+        match &self.kind {
+            Kind::Ball(b) => b.radius - p.length(),
+            Kind::Box(c) => (c.half_extents - p.abs()).min_element(),
+            Kind::Hull(h) => h.depth(p),
+        }
+    }
+
     /// [`CollisionShape::support_from`] in the shape's own frame.
     #[inline]
     pub fn local_support_from(&self, dir: Vec3, from: u32) -> (Vec3, u32) {
@@ -266,18 +276,31 @@ pub fn signed_distance_hinted(
     }
     let contact = match (&a.kind, &b.kind) {
         // World frame, so the normal goes back into a's.
-        (Kind::Box(ca), Kind::Box(cb)) => query::contact(pa, ca, pb, cb, 0.0)
-            .ok()
-            .flatten()
-            .map(|c| (c.dist, pa.rotation.inverse() * c.normal1)),
+        (Kind::Box(ca), Kind::Box(cb)) => {
+            query::contact(pa, ca, pb, cb, 0.0).ok().flatten().map(|c| {
+                let to_a = |x| pa.inverse_transform_point(x);
+                (
+                    c.dist,
+                    pa.rotation.inverse() * c.normal1,
+                    to_a(c.point1),
+                    to_a(c.point2),
+                )
+            })
+        }
         _ => query::details::contact_support_map_support_map(&pos12, g1, g2, 0.0)
-            .map(|c| (c.dist, c.normal1)),
+            .map(|c| (c.dist, c.normal1, c.point1, pos12.transform_point(c.point2))),
     };
-    let Some((dist, normal)) = contact else {
+    let Some((dist, normal, p1, p2)) = contact else {
         return 0.0;
     };
     if dist <= 0.0 && is_finite(normal) {
-        hint.last = Last::Overlap(normal);
+        // Between the two deepest points: inside both shapes, about half the depth into each.
+        let deep = (p1 + p2) * 0.5;
+        hint.last = Last::Overlap {
+            normal,
+            deep,
+            depth: a.depth(deep),
+        };
     }
     dist.min(0.0)
 }

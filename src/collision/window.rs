@@ -31,24 +31,46 @@ pub enum Last {
     /// The shapes were apart: a point of each (shape frames), the closest ones or, after a query that
     /// stopped early, the points its search had reached.
     Apart([Vec3; 2]),
-    /// The shapes overlapped: the direction of the penetration (frame of shape `a`, towards `b`).
-    Overlap(Vec3),
+    /// The shapes overlapped: the direction of the penetration (towards `b`), a point between the
+    /// deepest points and how deep it lies inside `a` (frame of shape `a`).
+    Overlap {
+        /// Direction of the penetration.
+        normal: Vec3,
+        /// A point between the deepest points.
+        deep: Vec3,
+        /// Its depth inside `a` ([`CollisionShape::depth`]).
+        depth: f64,
+    },
 }
 
 impl Hint {
-    /// With the shapes posed at `pa`, `pb`: the distance between the last two points (points of the
-    /// shapes in any pose, so an upper bound on the signed distance), and the axis (from `a` towards
-    /// `b`) along which the last query found the shapes apart or overlapping, a good axis for
-    /// [`super::axis_bounds`] when the pair moved little.
+    /// With the shapes posed at `pa`, `pb` (`b` the second shape): an upper bound on the signed distance, and the axis
+    /// (from `a` towards `b`) along which the last query found the shapes apart or overlapping, a good
+    /// axis for [`super::axis_bounds`] when the pair moved little. After a query that found them
+    /// apart, the bound is the distance between its two points (points of the shapes in any pose);
+    /// after an overlap, minus the depths of its deep point in both shapes where it lies inside both
+    /// (the two balls of those radii around it lie in the shapes and cannot be separated by less).
     #[inline]
-    pub fn bounds(&self, pa: &Pose, pb: &Pose) -> (f64, Option<Vec3>) {
+    pub fn bounds(&self, pa: &Pose, b: &CollisionShape, pb: &Pose) -> (f64, Option<Vec3>) {
         match self.last {
             Last::None => (f64::INFINITY, None),
             Last::Apart([p, q]) => {
                 let (wa, wb) = (pa.transform_point(p), pb.transform_point(q));
                 (wa.distance(wb), (wb - wa).try_normalize())
             }
-            Last::Overlap(n) => (f64::INFINITY, Some(pa.rotation * n)),
+            Last::Overlap {
+                normal,
+                deep,
+                depth,
+            } => {
+                let in_b = b.depth(pb.inverse_transform_point(pa.transform_point(deep)));
+                let upper = if depth > 0.0 && in_b > 0.0 {
+                    -(depth + in_b)
+                } else {
+                    f64::INFINITY
+                };
+                (upper, Some(pa.rotation * normal))
+            }
         }
     }
 }

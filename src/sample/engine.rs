@@ -478,7 +478,7 @@ impl Engine {
                 a.anchor(&pa, hint.anchors[0]),
                 b.anchor(&pb, hint.anchors[1]),
             );
-            let (near, last_axis) = hint.bounds(&pa, &pb);
+            let (near, last_axis) = hint.bounds(&pa, b, &pb);
             upper = upper.min(xa.distance(xb)).min(near);
             if !needs_exact(lower, upper, st) {
                 st.collisions += u64::from(upper < 0.0);
