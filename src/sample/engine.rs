@@ -223,40 +223,11 @@ impl Engine {
         }
     }
 
-    /// Statistics of the first `n` samples (chunk 0's) with an exact distance for every moving pair at
-    /// every sample: the same as [`Engine::run_chunk`] computes for them under a mean budget of at least
-    /// `n`, but in parallel over pairs.
-    pub fn pilot(&self, seed: u64, n: u64) -> Vec<Vec<PairStats>> {
-        let mut block = Block::default();
-        self.place(&mut Rng::new(seed, 0), 0, n.min(CHUNK) as usize, &mut block);
+    /// Empty statistics for every pair of every set.
+    pub fn empty_stats(&self) -> Vec<Vec<PairStats>> {
         self.sets
             .iter()
-            .enumerate()
-            .map(|(s, set)| {
-                (0..set.pairs.len())
-                    .into_par_iter()
-                    .map(|p| {
-                        let mut st = PairStats::default();
-                        if set.moving[p] {
-                            let run = PairRun {
-                                mean_budget: n,
-                                tol: 0.0,
-                                known: None,
-                            };
-                            self.observe_block(
-                                set,
-                                s,
-                                p,
-                                &block,
-                                &run,
-                                &mut Hint::default(),
-                                &mut st,
-                            );
-                        }
-                        st
-                    })
-                    .collect()
-            })
+            .map(|s| vec![PairStats::default(); s.pairs.len()])
             .collect()
     }
 
@@ -366,21 +337,19 @@ impl Engine {
     ) {
         // First the cheap bounds of every sample, in one pass of independent loads and arithmetic
         // (the table lookups miss the cache, and here the misses overlap), then the samples in order.
-        // (The pilot's block is longer than BLOCK: it goes BLOCK samples at a time.)
+        debug_assert!(block.len <= BLOCK);
         let mut bounds = [(0.0, 0.0); BLOCK];
-        for from in (0..block.len).step_by(BLOCK) {
-            let bounds = &mut bounds[..BLOCK.min(block.len - from)];
-            self.cheap_bounds(set, s, p, block, from, bounds);
-            for (kk, &bound) in (from..).zip(bounds.iter()) {
-                // The control bound of the mean estimate: the same cheap bound for every sample.
-                st.observe_bound(control(bound));
-                self.observe(set, s, p, block, kk, bound, run, hint, st);
-            }
+        let bounds = &mut bounds[..block.len];
+        self.cheap_bounds(set, s, p, block, bounds);
+        for (kk, &bound) in bounds.iter().enumerate() {
+            // The control bound of the mean estimate: the same cheap bound for every sample.
+            st.observe_bound(control(bound));
+            self.observe(set, s, p, block, kk, bound, run, hint, st);
         }
     }
 
-    /// Bounds `(lower, upper)` on the signed distance of moving pair `p` of set `s` at samples `from..`
-    /// of `block`, one per element of `out`: from the enclosing spheres (lower) and the inscribed ones
+    /// Bounds `(lower, upper)` on the signed distance of moving pair `p` of set `s` at every sample of
+    /// `block`, one per element of `out`: from the enclosing spheres (lower) and the inscribed ones
     /// (upper; see `collision` for why both hold with penetration too), and from the pair's table if
     /// it has one.
     fn cheap_bounds(
@@ -389,7 +358,6 @@ impl Engine {
         s: usize,
         p: usize,
         block: &Block,
-        from: usize,
         out: &mut [(f64, f64)],
     ) {
         let n = block.len;
@@ -398,20 +366,14 @@ impl Engine {
         let (i, j) = (i as usize, j as usize);
         let (a, b) = (&set.shapes[i], &set.shapes[j]);
         let (outer, inner) = (&block.outer[s], &block.inner[s]);
-        let (oa, ob) = (
-            &outer[i * n + from..(i + 1) * n],
-            &outer[j * n + from..(j + 1) * n],
-        );
-        let (ia, ib) = (
-            &inner[i * n + from..(i + 1) * n],
-            &inner[j * n + from..(j + 1) * n],
-        );
+        let (oa, ob) = (&outer[i * n..(i + 1) * n], &outer[j * n..(j + 1) * n]);
+        let (ia, ib) = (&inner[i * n..(i + 1) * n], &inner[j * n..(j + 1) * n]);
         for (kk, out) in out.iter_mut().enumerate() {
             *out = sphere_bounds(a, oa[kk], ia[kk], b, ob[kk], ib[kk]);
         }
         if let Some(t) = &set.tables[p] {
             let dofs = self.kinematics.dofs().len();
-            for (kk, (lower, upper)) in (from..).zip(out.iter_mut()) {
+            for (kk, (lower, upper)) in out.iter_mut().enumerate() {
                 let (lo, hi) = t.bounds(block.q[kk * dofs + t.dof]);
                 *lower = lower.max(lo);
                 *upper = upper.min(hi);

@@ -18,7 +18,8 @@ const PILOT: u64 = 256;
 /// Samples of the scout run (see [`Engine::scout`]): the first chunks, whose extremes prune the others.
 const SCOUT: u64 = 16 * CHUNK;
 
-/// The pilot's statistics (see [`Engine::pilot`]) and, per pair, how many leading samples enter its
+/// The pilot's statistics (samples `0..PILOT`, exact for every pair: [`Engine::scout`] with that
+/// budget) and, per pair, how many leading samples enter its
 /// mean estimate exactly: enough for a 3-sigma error under 1% of the mean (residual spread after the
 /// control bound, judged from the pilot), at least [`PILOT`]; a pair that would need more than
 /// `opts.mean_samples` gets every sample, so its mean is exact. No pilot runs (empty statistics) when
@@ -34,7 +35,20 @@ pub(super) fn mean_budgets(
         let budgets = engine.sets.iter().map(|s| vec![cap; s.pairs.len()]);
         return (Vec::new(), budgets.collect());
     }
-    let pilot = engine.pilot(opts.seed, PILOT);
+    let uniform: Vec<Vec<u64>> = engine
+        .sets
+        .iter()
+        .map(|s| vec![PILOT; s.pairs.len()])
+        .collect();
+    let run = engine::ChunkRun {
+        seed: opts.seed,
+        total: opts.samples,
+        mean_budget: &uniform,
+        tol: 0.0,
+        known: &[],
+    };
+    let mut pilot = engine.empty_stats();
+    engine.scout(&run, 0, PILOT, &mut pilot);
     let budgets = pilot
         .iter()
         .map(|stats| {
@@ -70,13 +84,7 @@ pub(super) fn accumulate(
     chunks: &[u64],
     progress: &dyn Progress,
 ) -> Vec<Vec<PairStats>> {
-    let empty = || -> Vec<Vec<PairStats>> {
-        engine
-            .sets
-            .iter()
-            .map(|s| vec![PairStats::default(); s.pairs.len()])
-            .collect()
-    };
+    let empty = || engine.empty_stats();
     let (pilot, budgets) = mean_budgets(engine, opts);
     let mut run = engine::ChunkRun {
         seed: opts.seed,
