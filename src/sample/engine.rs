@@ -433,9 +433,9 @@ impl Engine {
         let poses = &block.links[kk * self.robot.links.len()..];
         let (pa, pb) = (a.pose(&poses[set.links[i]]), b.pose(&poses[set.links[j]]));
         if !exact_mean {
-            // The points that bounded this pair at its last sample, and the closest points of its
-            // last exact query, are still points of the shapes: their distances are cheap upper
-            // bounds.
+            // Cheap upper bounds from the pair's hint: the distance between the points that bounded
+            // it at its last sample (still points of the shapes), and the last query's closest
+            // points or, after an overlap, its deep point (see `Hint::bounds`).
             let (xa, xb) = (
                 a.anchor(&pa, hint.anchors[0]),
                 b.anchor(&pb, hint.anchors[1]),
