@@ -171,10 +171,17 @@ impl HullSupport {
     }
 }
 
+impl HullSupport {
+    /// The index of the farthest vertex along `dir`, climbing from the table's start for its cell.
+    #[inline]
+    pub fn support_index(&self, dir: Vec3) -> u32 {
+        self.support_index_from(dir, self.starts[cells::of(dir)])
+    }
+}
+
 impl SupportMap for HullSupport {
     fn local_support_point(&self, dir: Vec3) -> Vec3 {
-        let start = self.starts[cells::of(dir)];
-        self.vertices[self.support_index_from(dir, start) as usize]
+        self.vertices[self.support_index(dir) as usize]
     }
 }
 

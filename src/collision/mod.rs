@@ -4,10 +4,12 @@
 //! Sign convention: the signed distance is the separation in metres when two shapes are apart, and minus
 //! the penetration depth (the shortest translation that separates them) when they overlap.
 
+mod box_bound;
 mod hull_support;
 mod load;
 mod window;
 
+pub use box_bound::{BoundingBox, PlacedBox, box_bounds};
 pub use hull_support::HullSupport;
 pub use load::ShapeSet;
 pub use window::{Hint, Last, Window, window};
@@ -30,6 +32,9 @@ pub struct CollisionShape {
     pub inner_center: Vec3,
     /// Radius of the inscribed sphere (0 when none is known).
     pub inner_radius: f64,
+    /// An oriented box around the shape (link frame), for the box bounds; `None` for a sphere, whose
+    /// sphere bounds are exact.
+    pub bounding_box: Option<BoundingBox>,
 }
 
 impl std::fmt::Debug for CollisionShape {
@@ -52,6 +57,7 @@ impl CollisionShape {
                 outer_radius: s.radius,
                 inner_center: s.center,
                 inner_radius: s.radius,
+                bounding_box: None,
             },
             Geometry::Obb(b) => CollisionShape {
                 kind: Kind::Box(Cuboid::new(b.half_extents)),
@@ -60,6 +66,7 @@ impl CollisionShape {
                 outer_radius: b.half_extents.length(),
                 inner_center: b.center,
                 inner_radius: b.half_extents.min_element(),
+                bounding_box: Some(BoundingBox::of_box(b)),
             },
             Geometry::Hull(h) => {
                 if h.vertices.len() < 4 || h.faces.len() < 4 {
@@ -74,6 +81,7 @@ impl CollisionShape {
                     outer_radius: outer.radius,
                     inner_center,
                     inner_radius,
+                    bounding_box: Some(BoundingBox::around(&crate::shapes::tight_obb(h))),
                 }
             }
         })
@@ -109,10 +117,17 @@ impl CollisionShape {
     }
 
     /// The shape's farthest point along `dir` (world frame), posed at `pose`, and its anchor number
-    /// (see [`CollisionShape::anchor`]; a hull's search starts from anchor `from`).
+    /// (see [`CollisionShape::anchor`]; a hull's search starts from its table of climb starts).
     #[inline]
-    pub fn support_from(&self, pose: &Pose, dir: Vec3, from: u32) -> (Vec3, u32) {
-        let (p, id) = self.local_support_from(pose.rotation.inverse() * dir, from);
+    pub fn support(&self, pose: &Pose, dir: Vec3) -> (Vec3, u32) {
+        let local = pose.rotation.inverse() * dir;
+        let (p, id) = match &self.kind {
+            Kind::Hull(h) => {
+                let id = h.support_index(local);
+                (h.vertices()[id as usize], id)
+            }
+            _ => self.local_support_from(local, 0),
+        };
         (pose.transform_point(p), id)
     }
 
@@ -152,8 +167,8 @@ enum Kind {
 /// the farthest of `b` along `-u`, the lower bound is their gap along `u` (a separating-axis test: if
 /// negative, translating `b` by it along `u` separates the shapes, so the penetration depth is at most
 /// that), and the upper bound is `|pa - pb|` (the distance between two points of the shapes, and
-/// non-negative, so above any penetration too). `anchors` holds the anchor numbers the searches start
-/// from and receives those of `pa` and `pb` (see [`CollisionShape::anchor`]).
+/// non-negative, so above any penetration too). `anchors` receives the anchor numbers of `pa` and `pb`
+/// (see [`CollisionShape::anchor`]).
 #[inline]
 pub fn axis_bounds(
     a: &CollisionShape,
@@ -163,8 +178,8 @@ pub fn axis_bounds(
     u: Vec3,
     anchors: &mut [u32; 2],
 ) -> (f64, f64) {
-    let (xa, ia) = a.support_from(pa, u, anchors[0]);
-    let (xb, ib) = b.support_from(pb, -u, anchors[1]);
+    let (xa, ia) = a.support(pa, u);
+    let (xb, ib) = b.support(pb, -u);
     *anchors = [ia, ib];
     ((xb - xa).dot(u), xa.distance(xb))
 }

@@ -5,8 +5,8 @@ use super::rng::Rng;
 use super::stats::PairStats;
 use super::table::{self, Table};
 use crate::collision::{
-    CollisionShape, Hint, Last, ShapeSet, Window, axis_bounds, signed_distance,
-    signed_distance_hinted, sphere_bounds, window,
+    CollisionShape, Hint, Last, PlacedBox, ShapeSet, Window, axis_bounds, box_bounds,
+    signed_distance, signed_distance_hinted, sphere_bounds, window,
 };
 use crate::error::Result;
 use crate::math::{Pose, Vec3};
@@ -94,6 +94,8 @@ pub struct Block {
     outer: Vec<Vec<Vec3>>,
     /// Per set, inscribed-sphere centres, laid out as `outer`.
     inner: Vec<Vec<Vec3>>,
+    /// Per set, the shapes' bounding boxes placed, laid out as `outer` (empty for spheres).
+    boxes: Vec<Vec<PlacedBox>>,
 }
 
 /// Per-worker scratch space, reused across samples.
@@ -209,15 +211,19 @@ impl Engine {
         }
         block.outer.resize(self.sets.len(), Vec::new());
         block.inner.resize(self.sets.len(), Vec::new());
+        block.boxes.resize(self.sets.len(), Vec::new());
         for (s, set) in self.sets.iter().enumerate() {
             let (outer, inner) = (&mut block.outer[s], &mut block.inner[s]);
+            let boxes = &mut block.boxes[s];
             outer.clear();
             inner.clear();
+            boxes.clear();
             for (shape, &link) in set.shapes.iter().zip(&set.links) {
-                for kk in 0..len {
-                    let pose = &block.links[kk * links + link];
-                    outer.push(pose.transform_point(shape.outer_center));
-                    inner.push(pose.transform_point(shape.inner_center));
+                let poses = || (0..len).map(|kk| &block.links[kk * links + link]);
+                outer.extend(poses().map(|pose| pose.transform_point(shape.outer_center)));
+                inner.extend(poses().map(|pose| pose.transform_point(shape.inner_center)));
+                if let Some(b) = &shape.bounding_box {
+                    boxes.extend(poses().map(|pose| b.place(pose)));
                 }
             }
         }
@@ -341,11 +347,27 @@ impl Engine {
         let mut bounds = [(0.0, 0.0); BLOCK];
         let bounds = &mut bounds[..block.len];
         self.cheap_bounds(set, s, p, block, bounds);
-        for (kk, &bound) in bounds.iter().enumerate() {
-            // The control bound of the mean estimate: the same cheap bound for every sample.
-            st.observe_bound(control(bound));
-            self.observe(set, s, p, block, kk, bound, run, hint, st);
+        // The control bound of the mean estimate: the same cheap bound for every sample.
+        st.observe_bounds(bounds.iter().map(|&b| control(b)));
+        // A sample whose cheap bounds decide its verdict and lie strictly inside the extremes as they
+        // stand at the block's start adds only its verdict: the extremes only tighten within the
+        // block, so `observe` would decide it the same way. The others go to `observe`, in order.
+        let known = run.known;
+        let lo = st.min.min(known.map_or(f64::INFINITY, |n| n.min)) - run.tol;
+        let hi = st.max.max(known.map_or(f64::NEG_INFINITY, |n| n.max)) + run.tol;
+        let exact_mean = run
+            .mean_budget
+            .saturating_sub(block.first)
+            .min(block.len as u64) as usize;
+        let mut collisions = 0;
+        for (kk, &(lower, upper)) in bounds.iter().enumerate() {
+            if kk >= exact_mean && (lower > 0.0 || upper < 0.0) && lo < lower && upper < hi {
+                collisions += u64::from(upper < 0.0);
+            } else {
+                self.observe(set, s, p, block, kk, (lower, upper), run, hint, st);
+            }
         }
+        st.collisions += collisions;
     }
 
     /// Bounds `(lower, upper)` on the signed distance of moving pair `p` of set `s` at every sample of
@@ -424,12 +446,36 @@ impl Engine {
                 || need_min(lower, st)
                 || need_max(upper, st)
         };
-        if !needs_exact(lower, upper, st) {
-            // The bounds decide: no new extreme, and the verdict is known.
-            st.collisions += u64::from(upper < 0.0);
+        // Whether the bounds decide the sample (no new extreme, and the verdict known); if they do,
+        // its verdict is counted.
+        let settle = |lower: f64, upper: f64, st: &mut PairStats| {
+            let decided = !needs_exact(lower, upper, st);
+            st.collisions += u64::from(decided && upper < 0.0);
+            decided
+        };
+        if settle(lower, upper, st) {
             return;
         }
-        // Shape poses only for the pairs that get past the sphere bounds.
+        let n = block.len;
+        // Whether both shapes are boxes: their box bounds are then their extreme points along the
+        // centre line.
+        let mut boxes_exact = false;
+        if !exact_mean {
+            // The bounding boxes along the line between their centres (placed with the block).
+            if let (Some(box_a), Some(box_b)) = (&a.bounding_box, &b.bounding_box) {
+                let boxes = &block.boxes[s];
+                boxes_exact = box_a.is_exact() && box_b.is_exact();
+                let (ba, bb) = (&boxes[i * n + kk], &boxes[j * n + kk]);
+                if let Some((lo, hi)) = box_bounds(ba, bb, boxes_exact) {
+                    lower = lower.max(lo);
+                    upper = upper.min(hi);
+                    if settle(lower, upper, st) {
+                        return;
+                    }
+                }
+            }
+        }
+        // Shape poses only for the pairs that get past the cheap bounds.
         let poses = &block.links[kk * self.robot.links.len()..];
         let (pa, pb) = (a.pose(&poses[set.links[i]]), b.pose(&poses[set.links[j]]));
         if !exact_mean {
@@ -442,22 +488,26 @@ impl Engine {
             );
             let (near, last_axis) = hint.bounds(&pa, b, &pb);
             upper = upper.min(xa.distance(xb)).min(near);
-            if !needs_exact(lower, upper, st) {
-                st.collisions += u64::from(upper < 0.0);
+            if settle(lower, upper, st) {
                 return;
             }
-            // The shapes' extreme points along the last penetration's direction (or the line between
-            // the centres) tighten both bounds. After a query that ended apart this is the first
-            // step of the GJK below, which starts from its points.
-            if !matches!(hint.last, Last::Apart(_)) {
-                let n = block.len;
+            // The shapes' extreme points along an axis tighten both bounds: after an overlap along
+            // the last penetration's direction, then (unless the box bounds did) along the line
+            // between the enclosing spheres' centres, far tighter than the spheres for elongated
+            // shapes.
+            let overlap_axis = match hint.last {
+                Last::Overlap { .. } => last_axis,
+                _ => None,
+            };
+            let centre = (!boxes_exact).then(|| {
                 let (oi, oj) = (block.outer[s][i * n + kk], block.outer[s][j * n + kk]);
-                let axis = last_axis.unwrap_or_else(|| (oj - oi).normalize_or(Vec3::Z));
+                (oj - oi).normalize_or(Vec3::Z)
+            });
+            for axis in overlap_axis.into_iter().chain(centre) {
                 let (lo, hi) = axis_bounds(a, &pa, b, &pb, axis, &mut hint.anchors);
                 lower = lower.max(lo);
                 upper = upper.min(hi);
-                if !needs_exact(lower, upper, st) {
-                    st.collisions += u64::from(upper < 0.0);
+                if settle(lower, upper, st) {
                     return;
                 }
             }

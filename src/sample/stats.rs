@@ -116,6 +116,13 @@ impl PairStats {
         self.bound_count += 1;
     }
 
+    /// [`PairStats::observe_bound`] for several samples at once (summed locally, then added).
+    #[inline]
+    pub fn observe_bounds(&mut self, bounds: impl ExactSizeIterator<Item = f64>) {
+        self.bound_count += bounds.len() as u64;
+        self.bound_sum += bounds.map(fixed).sum::<i128>();
+    }
+
     /// Adds an exact distance `d` at a sample whose control bound is `bound` to the mean estimate.
     #[inline]
     pub fn observe_mean(&mut self, d: f64, bound: f64) {
