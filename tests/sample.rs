@@ -335,3 +335,47 @@ fn estimates_stay_within_their_documented_error_on_ur5e() {
         "no mean was estimated: the test compares nothing"
     );
 }
+
+/// Every table of a pair that depends on one DOF (adjacent links, Panda's mimic fingers) bounds the
+/// exact signed distance at random configurations: the Lipschitz constant it is built with covers how
+/// fast either shape can move, so no sample it settles could have been decided otherwise.
+#[test]
+fn one_dof_tables_bracket_the_exact_distance() {
+    let Some(robots) = common::robots_dir() else {
+        return;
+    };
+    let dir = common::preprocessed(&robots.join("panda/panda.urdf"), "panda-tables");
+    let engine = scm::sample::Engine::load(&Urdd::open(&dir).unwrap(), &ShapeType::ALL).unwrap();
+    let mut rng = scm::sample::Rng::new(11, 0);
+    let (mut checked, mut tight) = (0, 0);
+    for (s, set) in engine.sets.iter().enumerate() {
+        for (p, table) in set.tables.iter().enumerate() {
+            let Some(table) = table else { continue };
+            for _ in 0..12 {
+                let q: Vec<f64> = engine
+                    .kinematics
+                    .dofs()
+                    .iter()
+                    .map(|d| rng.range(d.lower, d.upper))
+                    .collect();
+                let d = engine.pair_distance(s, p, &q);
+                let (lower, upper) = table.bounds(q[table.dof]);
+                // The exact query's own error is below 1e-6 m (tests/exactness.rs).
+                assert!(
+                    lower <= d + 1e-6 && d <= upper + 1e-6,
+                    "{} pair {:?}: {d} outside [{lower}, {upper}]",
+                    set.shape_type.id(),
+                    set.pairs[p]
+                );
+                checked += 1;
+                tight += usize::from(upper - lower < 1e-3);
+            }
+        }
+    }
+    assert!(checked >= 500, "only {checked} table checks");
+    // Bounds that hold because they are loose would be no use: most are within a millimetre.
+    assert!(
+        tight * 10 >= checked * 9,
+        "{tight} of {checked} within 1 mm"
+    );
+}

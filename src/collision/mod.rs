@@ -141,6 +141,34 @@ impl CollisionShape {
         }
     }
 
+    /// The largest distance of any point of the shape, its link posed at `link`, from the line through
+    /// `origin` along the unit vector `axis`: how fast its points move, per radian, when it turns about
+    /// that line. The distance from a line is convex, so a hull's or box's largest is at a vertex.
+    pub fn reach(&self, link: &Pose, origin: Vec3, axis: Vec3) -> f64 {
+        let pose = self.pose(link);
+        let from_line = |p: Vec3| {
+            let v = pose.transform_point(p) - origin;
+            (v - axis * v.dot(axis)).length()
+        };
+        match &self.kind {
+            Kind::Ball(b) => from_line(Vec3::ZERO) + b.radius,
+            Kind::Box(c) => {
+                let h = c.half_extents;
+                (0..8)
+                    .map(|k| {
+                        let sign = |bit: u32| if k & (1 << bit) == 0 { -1.0 } else { 1.0 };
+                        from_line(Vec3::new(sign(0) * h.x, sign(1) * h.y, sign(2) * h.z))
+                    })
+                    .fold(0.0, f64::max)
+            }
+            Kind::Hull(h) => h
+                .vertices()
+                .iter()
+                .map(|&v| from_line(v))
+                .fold(0.0, f64::max),
+        }
+    }
+
     /// [`CollisionShape::support_from`] in the shape's own frame.
     #[inline]
     pub fn local_support_from(&self, dir: Vec3, from: u32) -> (Vec3, u32) {

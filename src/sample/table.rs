@@ -53,32 +53,51 @@ pub fn build(engine: &Engine, s: usize, p: usize) -> Option<Table> {
     let d = &engine.kinematics.dofs()[dof];
     let home = engine.kinematics.home();
     let poses = engine.kinematics.link_poses(&home);
-    // Every point of either shape moves at most this fast per unit of the DOF.
-    let reach = |joint: usize| -> f64 {
-        let jt = &engine.robot.joints[joint];
-        let frame = poses[jt.parent] * jt.origin;
-        let axis = frame.rotation * jt.axis;
-        [(a, la), (b, lb)]
-            .iter()
-            .map(|&(k, link)| {
-                let shape = &set.shapes[k];
-                let c = poses[link].transform_point(shape.outer_center) - frame.translation;
-                (c - axis * c.dot(axis)).length() + shape.outer_radius
-            })
-            .fold(0.0, f64::max)
-    };
-    let mut lipschitz = 0.0;
-    for joint in engine.robot.path_joints(la, lb) {
+    // How fast the distance can change per unit of the DOF: at most as fast as either shape's points
+    // move relative to the other. With one moving joint on the path, turning one shape about its axis
+    // is turning the other back about it, so the closer of the two shapes bounds the rate. Otherwise a
+    // shape moves by the path joints above its own link (the path runs up from one link and down to
+    // the other), each as fast per radian as the shape's farthest point from its axis (taken at home);
+    // a moving joint between the shape and an axis shifts the shape's points by up to its own sweep,
+    // so each adds that sweep to the reach of the joints above it.
+    let span = d.upper - d.lower;
+    let path: Vec<usize> = engine
+        .robot
+        .path_joints(la, lb)
+        .into_iter()
+        .filter(|&j| engine.robot.joints[j].kind.is_actuated())
+        .collect();
+    let speed = |joint: usize, reach: &dyn Fn(usize, usize) -> f64| -> f64 {
         let jt = &engine.robot.joints[joint];
         let rate = jt.mimic.map_or(1.0, |m| m.multiplier.abs());
-        lipschitz += match jt.kind {
-            JointKind::Revolute | JointKind::Continuous => rate * reach(joint),
-            JointKind::Prismatic => rate,
-            _ => 0.0,
-        };
-    }
+        match jt.kind {
+            JointKind::Revolute | JointKind::Continuous => rate * reach(joint, jt.parent),
+            _ => rate,
+        }
+    };
+    let about = |k: usize, link: usize, joint: usize, parent: usize| -> f64 {
+        let jt = &engine.robot.joints[joint];
+        let frame = poses[parent] * jt.origin;
+        set.shapes[k].reach(&poses[link], frame.translation, frame.rotation * jt.axis)
+    };
+    let lipschitz = if let [joint] = path[..] {
+        speed(joint, &|j, parent| {
+            about(a, la, j, parent).min(about(b, lb, j, parent))
+        })
+    } else {
+        let above_a = engine.robot.path_joints(la, engine.robot.root);
+        let mut total = 0.0;
+        for (k, link, side) in [(a, la, true), (b, lb, false)] {
+            let mut sweep = 0.0;
+            for &joint in path.iter().filter(|j| above_a.contains(j) == side) {
+                let v = speed(joint, &|j, parent| about(k, link, j, parent) + sweep);
+                total += v;
+                sweep += v * span;
+            }
+        }
+        total
+    };
     // Between two grid points the slack is at most lipschitz * step / 2.
-    let span = d.upper - d.lower;
     let wanted = (lipschitz * span / (2.0 * TARGET_SLACK)).ceil();
     let grid = if wanted.is_finite() {
         (wanted as usize).clamp(MIN_GRID, MAX_GRID)
