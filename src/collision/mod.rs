@@ -116,6 +116,15 @@ impl CollisionShape {
         }
     }
 
+    /// A hull's vertex numbered `anchor` in the shape's own frame (`None` for other shapes).
+    #[inline]
+    pub fn anchor_local(&self, anchor: u32) -> Option<Vec3> {
+        match &self.kind {
+            Kind::Hull(h) => h.vertices().get(anchor as usize).copied(),
+            _ => None,
+        }
+    }
+
     /// The shape's farthest point along `dir` (world frame), posed at `pose`, and its anchor number
     /// (see [`CollisionShape::anchor`]; a hull's search starts from its table of climb starts).
     #[inline]

@@ -117,13 +117,31 @@ pub fn window(
     }
     let pos12 = pa.inv_mul(pb);
     let (g1, g2) = (a.support_map(), b.support_map());
-    let mut simplex = match hint.last {
-        Last::Apart([p, q]) => {
+    // Start from the closer of the last query's points and the anchors' (this sample's extreme points
+    // along the centre line when the bounds before ran).
+    let anchored = match (
+        a.anchor_local(hint.anchors[0]),
+        b.anchor_local(hint.anchors[1]),
+    ) {
+        (Some(p), Some(q)) => Some(CsoPoint::new(p, pos12.transform_point(q))),
+        _ => None,
+    };
+    let last = match hint.last {
+        Last::Apart([p, q]) => Some(CsoPoint::new(p, pos12.transform_point(q))),
+        _ => None,
+    };
+    let start = [anchored, last].into_iter().flatten().min_by(|x, y| {
+        x.point
+            .length_squared()
+            .total_cmp(&y.point.length_squared())
+    });
+    let mut simplex = match start {
+        Some(point) => {
             let mut simplex = VoronoiSimplex::new();
-            simplex.reset(CsoPoint::new(p, pos12.transform_point(q)));
+            simplex.reset(point);
             simplex
         }
-        _ => start_simplex(&pos12, g1, g2),
+        None => start_simplex(&pos12, g1, g2),
     };
     let (mut lower, mut upper) = bounds;
     let mut anchors = hint.anchors;
