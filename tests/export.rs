@@ -60,8 +60,8 @@ fn matrix_files_are_consistent_in_both_encodings() {
         for p in &json.pairs {
             assert_eq!(json.skip[p.0.a].0[p.0.b], p.0.skip, "{t}: matrix vs pair");
             assert_eq!(json.skip[p.0.b].0[p.0.a], p.0.skip, "{t}: not symmetric");
-            // d_min and d_max carry the sampling tolerance (0.05 mm); d_mean is exact.
-            let tol = 5e-5 + 1e-9;
+            // d_min and d_max carry the sampling tolerance; d_mean is exact.
+            let tol = scm::sample::DEFAULT_TOLERANCE + 1e-9;
             assert!(
                 p.0.d_min <= p.0.d_mean + tol && p.0.d_mean <= p.0.d_max + tol,
                 "{t}"

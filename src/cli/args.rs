@@ -228,7 +228,7 @@ pub struct SamplingArgs {
     pub mean_samples: u64,
     /// d_min and d_max may differ from the exact extremes over the samples by at most this (m);
     /// 0 makes them exact. Collision counts and witnesses are always exact.
-    #[arg(long, default_value_t = 5e-5)]
+    #[arg(long, default_value_t = scm::sample::DEFAULT_TOLERANCE)]
     pub tolerance: f64,
     /// Pairs never in collision but closer than this (m) get a targeted collision search.
     #[arg(long, default_value_t = 0.02)]
