@@ -112,41 +112,8 @@ pub fn box_bounds(a: &PlacedBox, b: &PlacedBox, exact: bool) -> Option<(f64, f64
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::collision::{CollisionShape, signed_distance, sphere_bounds};
-    use crate::shapes::{Geometry, convex_hull};
-
-    /// A small deterministic generator of values in [-0.5, 0.5).
-    fn values(seed: u64) -> impl FnMut() -> f64 {
-        let mut s = seed;
-        move || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        }
-    }
-
-    /// Elongated boxes, and hulls of random points in elongated regions, each with its link pose.
-    fn shapes(r: &mut impl FnMut() -> f64) -> Vec<CollisionShape> {
-        let mut out = Vec::new();
-        for k in 0..40 {
-            let half = Vec3::new(0.2 + r(), 0.03 + 0.05 * r().abs(), 0.05 + 0.1 * r().abs());
-            let geometry = if k % 2 == 0 {
-                Geometry::Obb(Obb {
-                    center: Vec3::new(r(), r(), r()) * 0.1,
-                    rotation: Rotation::from_scaled_axis(Vec3::new(r(), r(), r()) * 3.0),
-                    half_extents: half,
-                })
-            } else {
-                let points: Vec<Vec3> = (0..60)
-                    .map(|_| Vec3::new(r(), r(), r()) * half * 2.0)
-                    .collect();
-                Geometry::Hull(convex_hull(&points).expect("60 random points span a volume"))
-            };
-            out.push(CollisionShape::new(&geometry).expect("not degenerate"));
-        }
-        out
-    }
+    use crate::collision::test_shapes::{link, shapes, values};
+    use crate::collision::{signed_distance, sphere_bounds};
 
     #[test]
     fn box_bounds_bracket_the_signed_distance_and_beat_the_spheres() {
@@ -159,12 +126,6 @@ mod tests {
                 ((r() + 0.5) * 40.0) as usize % 40,
             );
             let (a, b) = (&shapes[i], &shapes[j]);
-            let link = |r: &mut dyn FnMut() -> f64| {
-                Pose::from_parts(
-                    Vec3::new(r(), r(), r()) * 0.8,
-                    Rotation::from_scaled_axis(Vec3::new(r(), r(), r()) * 6.0),
-                )
-            };
             let (la, lb) = (link(&mut r), link(&mut r));
             let d = signed_distance(a, &a.pose(&la), b, &b.pose(&lb));
             let (box_a, box_b) = (a.bounding_box.unwrap(), b.bounding_box.unwrap());

@@ -188,17 +188,12 @@ impl SupportMap for HullSupport {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::collision::test_shapes::values;
     use crate::shapes::convex_hull;
 
     #[test]
     fn climbing_finds_the_scanned_support() {
-        let mut s = 7u64;
-        let mut r = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut r = values(7);
         let points: Vec<Vec3> = (0..400)
             .map(|_| Vec3::new(r(), r() * 0.3, r() * 2.0))
             .collect();

@@ -5,8 +5,11 @@
 //! the penetration depth (the shortest translation that separates them) when they overlap.
 
 mod box_bound;
+mod depth_bracket;
 mod hull_support;
 mod load;
+#[cfg(test)]
+mod test_shapes;
 mod window;
 
 pub use box_bound::{BoundingBox, PlacedBox, box_bounds};
