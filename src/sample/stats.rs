@@ -116,11 +116,14 @@ impl PairStats {
         self.bound_count += 1;
     }
 
-    /// [`PairStats::observe_bound`] for several samples at once (summed locally, then added).
+    /// [`PairStats::observe_bound`] for a block of samples at once: summed in f64, in order, and the
+    /// sum added in fixed point. Every run places the same blocks (aligned to the block length within
+    /// each chunk), so the sum, and with it the merged total, is the same in any run; it differs
+    /// from adding each bound in fixed point by rounding alone (below 1e-15 m per sample).
     #[inline]
     pub fn observe_bounds(&mut self, bounds: impl ExactSizeIterator<Item = f64>) {
         self.bound_count += bounds.len() as u64;
-        self.bound_sum += bounds.map(fixed).sum::<i128>();
+        self.bound_sum += fixed(bounds.sum::<f64>());
     }
 
     /// Adds an exact distance `d` at a sample whose control bound is `bound` to the mean estimate.
