@@ -112,7 +112,7 @@ pub fn box_bounds(a: &PlacedBox, b: &PlacedBox, exact: bool) -> Option<(f64, f64
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::collision::test_shapes::{link, shapes, values};
+    use crate::collision::test_shapes::{link, pick, shapes, values};
     use crate::collision::{signed_distance, sphere_bounds};
 
     #[test]
@@ -121,11 +121,7 @@ mod tests {
         let shapes = shapes(&mut r);
         let (mut checked, mut tighter, mut overlapping) = (0, 0, 0);
         for _ in 0..4000 {
-            let (i, j) = (
-                ((r() + 0.5) * 40.0) as usize % 40,
-                ((r() + 0.5) * 40.0) as usize % 40,
-            );
-            let (a, b) = (&shapes[i], &shapes[j]);
+            let (a, b) = (&shapes[pick(&mut r)], &shapes[pick(&mut r)]);
             let (la, lb) = (link(&mut r), link(&mut r));
             let d = signed_distance(a, &a.pose(&la), b, &b.pose(&lb));
             let (box_a, box_b) = (a.bounding_box.unwrap(), b.bounding_box.unwrap());

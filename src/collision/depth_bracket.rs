@@ -12,8 +12,9 @@ use crate::math::Vec3;
 
 /// Most vertices of the polytope: the start tetrahedron and one per step.
 const MAX_VERTICES: usize = 28;
-/// Most faces at once (a closed triangulation of `V` vertices has `2V - 4`), with room for dead ones.
-const MAX_FACES: usize = 160;
+/// Most faces: a closed triangulation of `V` vertices has `2V - 4` (the faces that see a new point
+/// are dropped before its fan is added).
+const MAX_FACES: usize = 2 * MAX_VERTICES - 4;
 
 /// A face of the polytope: vertex indices counter-clockwise seen from outside, the outward unit normal,
 /// and the origin's distance to its plane.
@@ -77,11 +78,10 @@ pub fn depth_within(
         n_faces += 1;
     }
     loop {
-        // The nearest face: the origin lies inside every face's plane, so the depth is at least its
-        // distance.
+        // The nearest face (all are alive here): the origin lies inside every face's plane, so the
+        // depth is at least its distance.
         let Some(nearest) = faces[..n_faces]
             .iter()
-            .filter(|f| f.alive)
             .min_by(|x, y| x.dist.total_cmp(&y.dist))
             .copied()
         else {

@@ -37,6 +37,11 @@ pub fn shapes(r: &mut impl FnMut() -> f64) -> Vec<CollisionShape> {
     out
 }
 
+/// A random index into [`shapes`].
+pub fn pick(r: &mut dyn FnMut() -> f64) -> usize {
+    ((r() + 0.5) * 40.0) as usize % 40
+}
+
 /// A random link pose within 0.4 m of the origin.
 pub fn link(r: &mut dyn FnMut() -> f64) -> Pose {
     Pose::from_parts(

@@ -162,13 +162,7 @@ pub fn window(
             let inside = (lo < lower && 0.0 < hi)
                 || (simplex.dimension() == 3 && {
                     let tetrahedron = [0, 1, 2, 3].map(|i| simplex.point(i).point);
-                    let support = |dir: Vec3| {
-                        let (sa, ia) = a.local_support_from(dir, anchors[0]);
-                        let local = pos12.rotation.inverse() * -dir;
-                        let (sb, ib) = b.local_support_from(local, anchors[1]);
-                        anchors = [ia, ib];
-                        sa - pos12.transform_point(sb)
-                    };
+                    let support = |dir| cso_support(a, b, &pos12, dir, &mut anchors).point;
                     depth_within(tetrahedron, support, lo, hi, lower)
                 });
             hint.anchors = anchors;
@@ -185,11 +179,7 @@ pub fn window(
         last_dist = dist;
         upper = upper.min(dist);
         let dir = -proj / dist;
-        // The supports climb from the last ones: GJK's directions change little from step to step.
-        let (sa, ia) = a.local_support_from(dir, anchors[0]);
-        let (sb, ib) = b.local_support_from(pos12.rotation.inverse() * -dir, anchors[1]);
-        anchors = [ia, ib];
-        let support = CsoPoint::new(sa, pos12.transform_point(sb));
+        let support = cso_support(a, b, &pos12, dir, &mut anchors);
         lower = lower.max(-dir.dot(support.point));
         // The support point is a point of the obstacle too.
         upper = upper.min(support.point.length());
@@ -220,6 +210,23 @@ pub fn window(
         hint.last = Last::Apart(simplex_points(&simplex, &pos12));
     }
     Window::Open
+}
+
+/// The obstacle's (`a - b`, frame of `a`, `b` posed at `pos12`) farthest point along `dir`. The
+/// searches climb from `anchors` and leave theirs there: the directions of successive GJK and EPA
+/// steps change little.
+#[inline]
+fn cso_support(
+    a: &CollisionShape,
+    b: &CollisionShape,
+    pos12: &Pose,
+    dir: Vec3,
+    anchors: &mut [u32; 2],
+) -> CsoPoint {
+    let (sa, ia) = a.local_support_from(dir, anchors[0]);
+    let (sb, ib) = b.local_support_from(pos12.rotation.inverse() * -dir, anchors[1]);
+    *anchors = [ia, ib];
+    CsoPoint::new(sa, pos12.transform_point(sb))
 }
 
 /// A GJK simplex started as parry's distance query starts it: one support point along the line
@@ -258,7 +265,7 @@ fn simplex_points(simplex: &VoronoiSimplex, pos12: &Pose) -> [Vec3; 2] {
 mod tests {
     use super::*;
     use crate::collision::signed_distance;
-    use crate::collision::test_shapes::{link, shapes, values};
+    use crate::collision::test_shapes::{link, pick, shapes, values};
 
     /// Windows around random pairs' exact signed distances: an answer `Inside` is always right, and
     /// windows that hold an overlapping pair's distance with a millimetre to spare are mostly settled
@@ -269,7 +276,6 @@ mod tests {
         let shapes = shapes(&mut r);
         let (mut overlapping, mut settled) = (0, 0);
         for _ in 0..4000 {
-            let pick = |r: &mut dyn FnMut() -> f64| ((r() + 0.5) * 40.0) as usize % 40;
             let (a, b) = (&shapes[pick(&mut r)], &shapes[pick(&mut r)]);
             let (pa, pb) = (a.pose(&link(&mut r)), b.pose(&link(&mut r)));
             let d = signed_distance(a, &pa, b, &pb);

@@ -67,30 +67,30 @@ pub fn build(engine: &Engine, s: usize, p: usize) -> Option<Table> {
         .into_iter()
         .filter(|&j| engine.robot.joints[j].kind.is_actuated())
         .collect();
-    let speed = |joint: usize, reach: &dyn Fn(usize, usize) -> f64| -> f64 {
+    // The shape's farthest point from the joint's axis, and the distance's rate of change for a
+    // shape of that reach turned (or, prismatic, shifted) by the joint.
+    let about = |k: usize, link: usize, joint: usize| -> f64 {
+        let jt = &engine.robot.joints[joint];
+        let frame = poses[jt.parent] * jt.origin;
+        set.shapes[k].reach(&poses[link], frame.translation, frame.rotation * jt.axis)
+    };
+    let speed = |joint: usize, reach: f64| -> f64 {
         let jt = &engine.robot.joints[joint];
         let rate = jt.mimic.map_or(1.0, |m| m.multiplier.abs());
         match jt.kind {
-            JointKind::Revolute | JointKind::Continuous => rate * reach(joint, jt.parent),
+            JointKind::Revolute | JointKind::Continuous => rate * reach,
             _ => rate,
         }
     };
-    let about = |k: usize, link: usize, joint: usize, parent: usize| -> f64 {
-        let jt = &engine.robot.joints[joint];
-        let frame = poses[parent] * jt.origin;
-        set.shapes[k].reach(&poses[link], frame.translation, frame.rotation * jt.axis)
-    };
     let lipschitz = if let [joint] = path[..] {
-        speed(joint, &|j, parent| {
-            about(a, la, j, parent).min(about(b, lb, j, parent))
-        })
+        speed(joint, about(a, la, joint).min(about(b, lb, joint)))
     } else {
         let above_a = engine.robot.path_joints(la, engine.robot.root);
         let mut total = 0.0;
         for (k, link, side) in [(a, la, true), (b, lb, false)] {
             let mut sweep = 0.0;
             for &joint in path.iter().filter(|j| above_a.contains(j) == side) {
-                let v = speed(joint, &|j, parent| about(k, link, j, parent) + sweep);
+                let v = speed(joint, about(k, link, joint) + sweep);
                 total += v;
                 sweep += v * span;
             }
