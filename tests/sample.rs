@@ -336,22 +336,26 @@ fn estimates_stay_within_their_documented_error_on_ur5e() {
     );
 }
 
-/// Every table of a pair that depends on one DOF (adjacent links, Panda's mimic fingers) bounds the
-/// exact signed distance at random configurations: the Lipschitz constant it is built with covers how
-/// fast either shape can move, so no sample it settles could have been decided otherwise.
+/// Every table (pairs that depend on one or two DOFs: adjacent links, Panda's mimic fingers, links two
+/// joints apart) bounds the exact signed distance at random configurations: the Lipschitz constants it
+/// is built with cover how fast either shape can move, so no sample it settles could have been decided
+/// otherwise. (It fails with the one-DOF constants scaled by 0.7, the two-DOF ones by 0.4.)
 #[test]
-fn one_dof_tables_bracket_the_exact_distance() {
+fn tables_bracket_the_exact_distance() {
     let Some(robots) = common::robots_dir() else {
         return;
     };
     let dir = common::preprocessed(&robots.join("panda/panda.urdf"), "panda-tables");
     let engine = scm::sample::Engine::load(&Urdd::open(&dir).unwrap(), &ShapeType::ALL).unwrap();
     let mut rng = scm::sample::Rng::new(11, 0);
-    let (mut checked, mut tight) = (0, 0);
+    // Per rank: checks, and bounds within 1 mm and 5 cm.
+    let mut checked = [0usize; 2];
+    let mut within = [[0usize; 2]; 2];
     for (s, set) in engine.sets.iter().enumerate() {
         for (p, table) in set.tables.iter().enumerate() {
             let Some(table) = table else { continue };
-            for _ in 0..12 {
+            let rank = table.dofs().count();
+            for _ in 0..24 {
                 let q: Vec<f64> = engine
                     .kinematics
                     .dofs()
@@ -359,23 +363,37 @@ fn one_dof_tables_bracket_the_exact_distance() {
                     .map(|d| rng.range(d.lower, d.upper))
                     .collect();
                 let d = engine.pair_distance(s, p, &q);
-                let (lower, upper) = table.bounds(q[table.dof]);
+                let (lower, upper) = table.bounds(&q);
                 // The exact query's own error is below 1e-6 m (tests/exactness.rs).
                 assert!(
                     lower <= d + 1e-6 && d <= upper + 1e-6,
-                    "{} pair {:?}: {d} outside [{lower}, {upper}]",
+                    "{} pair {:?} ({rank} DOFs): {d} outside [{lower}, {upper}]",
                     set.shape_type.id(),
                     set.pairs[p]
                 );
-                checked += 1;
-                tight += usize::from(upper - lower < 1e-3);
+                checked[rank - 1] += 1;
+                within[rank - 1][0] += usize::from(upper - lower < 1e-3);
+                within[rank - 1][1] += usize::from(upper - lower < 5e-2);
             }
         }
     }
-    assert!(checked >= 500, "only {checked} table checks");
-    // Bounds that hold because they are loose would be no use: most are within a millimetre.
     assert!(
-        tight * 10 >= checked * 9,
-        "{tight} of {checked} within 1 mm"
+        checked.iter().all(|&c| c >= 500),
+        "only {checked:?} table checks"
+    );
+    // Bounds that hold because they are loose would be no use: most one-DOF bounds are within a
+    // millimetre; two-DOF ones, over a coarser grid, within 5 cm.
+    assert!(
+        within[0][0] * 10 >= checked[0] * 9,
+        "{} of {} one-DOF bounds within 1 mm",
+        within[0][0],
+        checked[0]
+    );
+    assert!(
+        within[1][1] * 10 >= checked[1] * 9,
+        "{} of {} two-DOF bounds within 5 cm ({} within 1 mm)",
+        within[1][1],
+        checked[1],
+        within[1][0]
     );
 }

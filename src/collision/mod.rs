@@ -90,6 +90,11 @@ impl CollisionShape {
         })
     }
 
+    /// Whether the shape is a sphere (its sphere bounds are then its exact distances).
+    pub fn is_ball(&self) -> bool {
+        matches!(self.kind, Kind::Ball(_))
+    }
+
     /// The shape as a support map (for GJK and EPA), posed by [`CollisionShape::pose`].
     fn support_map(&self) -> &dyn SupportMap {
         match &self.kind {
@@ -319,7 +324,7 @@ pub fn signed_distance_hinted(
         query::gjk::GJKResult::ClosestPoints(p1, p2, _) => {
             let d = (p1 - p2).length();
             if d > 0.0 {
-                hint.last = Last::Apart([p1, pos12.inverse_transform_point(p2)]);
+                hint.last = Last::apart(p1, p2, &pos12);
             }
             d
         }

@@ -30,8 +30,14 @@ pub enum Last {
     #[default]
     None,
     /// The shapes were apart: a point of each (shape frames), the closest ones or, after a query that
-    /// stopped early, the points its search had reached.
-    Apart([Vec3; 2]),
+    /// stopped early, the points its search had reached; and the direction from the first to the
+    /// second then (frame of shape `a`).
+    Apart {
+        /// The points.
+        points: [Vec3; 2],
+        /// The direction between them.
+        axis: Vec3,
+    },
     /// The shapes overlapped: the direction of the penetration (towards `b`), a point between the
     /// deepest points and how deep it lies inside `a` (frame of shape `a`).
     Overlap {
@@ -44,10 +50,21 @@ pub enum Last {
     },
 }
 
+impl Last {
+    /// The finding of a query that ended apart with point `p1` of `a` and `p2` of `b`, both in the
+    /// frame of `a`, `b` posed at `pos12` in it.
+    pub fn apart(p1: Vec3, p2: Vec3, pos12: &Pose) -> Last {
+        Last::Apart {
+            points: [p1, pos12.inverse_transform_point(p2)],
+            axis: (p2 - p1).normalize_or(Vec3::Z),
+        }
+    }
+}
+
 impl Hint {
     /// With the shapes posed at `pa`, `pb` (`b` the second shape): an upper bound on the signed distance, and the axis
-    /// (from `a` towards `b`) along which the last query found the shapes apart or overlapping, a good
-    /// axis for [`super::axis_bounds`] when the pair moved little. After a query that found them
+    /// (from `a` towards `b`, turned with `a`) along which the last query found the shapes apart or
+    /// overlapping, a good axis for [`super::axis_bounds`] when the pair moved little. After a query that found them
     /// apart, the bound is the distance between its two points (points of the shapes in any pose);
     /// after an overlap, minus the depths of its deep point in both shapes where it lies inside both
     /// (the two balls of those radii around it lie in the shapes and cannot be separated by less).
@@ -55,9 +72,12 @@ impl Hint {
     pub fn bounds(&self, pa: &Pose, b: &CollisionShape, pb: &Pose) -> (f64, Option<Vec3>) {
         match self.last {
             Last::None => (f64::INFINITY, None),
-            Last::Apart([p, q]) => {
+            Last::Apart {
+                points: [p, q],
+                axis,
+            } => {
                 let (wa, wb) = (pa.transform_point(p), pb.transform_point(q));
-                (wa.distance(wb), (wb - wa).try_normalize())
+                (wa.distance(wb), Some(pa.rotation * axis))
             }
             Last::Overlap {
                 normal,
@@ -128,7 +148,7 @@ pub fn window(
         _ => None,
     };
     let last = match hint.last {
-        Last::Apart([p, q]) => Some(CsoPoint::new(p, pos12.transform_point(q))),
+        Last::Apart { points: [p, q], .. } => Some(CsoPoint::new(p, pos12.transform_point(q))),
         _ => None,
     };
     let start = [anchored, last].into_iter().flatten().min_by(|x, y| {
@@ -196,7 +216,7 @@ pub fn window(
         }
         if let (Some(overlap), true) = (verdict, lo < lower && upper < hi) {
             hint.anchors = anchors;
-            hint.last = Last::Apart(simplex_points(&simplex, &pos12));
+            hint.last = apart(&simplex, &pos12);
             return Window::Inside { overlap };
         }
         if upper - lower <= eps_rel * upper || !simplex.add_point(support) {
@@ -207,7 +227,7 @@ pub fn window(
     }
     hint.anchors = anchors;
     if projected {
-        hint.last = Last::Apart(simplex_points(&simplex, &pos12));
+        hint.last = apart(&simplex, &pos12);
     }
     Window::Open
 }
@@ -251,14 +271,14 @@ pub(super) fn start_simplex(
 /// The points of each shape (in its own frame) that the simplex's last projection of the origin
 /// combines: real points of the shapes, whatever the state of the search. The simplex must not be a
 /// full tetrahedron (whose projection has no coordinates).
-fn simplex_points(simplex: &VoronoiSimplex, pos12: &Pose) -> [Vec3; 2] {
+fn apart(simplex: &VoronoiSimplex, pos12: &Pose) -> Last {
     let (mut p1, mut p2) = (Vec3::ZERO, Vec3::ZERO);
     for i in 0..=simplex.dimension() {
         let (c, pt) = (simplex.proj_coord(i), simplex.point(i));
         p1 += pt.orig1 * c;
         p2 += pt.orig2 * c;
     }
-    [p1, pos12.inverse_transform_point(p2)]
+    Last::apart(p1, p2, pos12)
 }
 
 #[cfg(test)]

@@ -5,8 +5,8 @@ use super::rng::Rng;
 use super::stats::PairStats;
 use super::table::{self, Table};
 use crate::collision::{
-    CollisionShape, Hint, Last, PlacedBox, ShapeSet, Window, axis_bounds, box_bounds,
-    signed_distance, signed_distance_hinted, sphere_bounds, window,
+    CollisionShape, Hint, PlacedBox, ShapeSet, Window, axis_bounds, box_bounds,
+    signed_distance_hinted, sphere_bounds, window,
 };
 use crate::error::Result;
 use crate::math::{Pose, Vec3};
@@ -396,7 +396,7 @@ impl Engine {
         if let Some(t) = &set.tables[p] {
             let dofs = self.kinematics.dofs().len();
             for (kk, (lower, upper)) in out.iter_mut().enumerate() {
-                let (lo, hi) = t.bounds(block.q[kk * dofs + t.dof]);
+                let (lo, hi) = t.bounds(&block.q[kk * dofs..(kk + 1) * dofs]);
                 *lower = lower.max(lo);
                 *upper = upper.min(hi);
             }
@@ -491,19 +491,16 @@ impl Engine {
             if settle(lower, upper, st) {
                 return;
             }
-            // The shapes' extreme points along an axis tighten both bounds: after an overlap along
-            // the last penetration's direction, then (unless the box bounds did) along the line
-            // between the enclosing spheres' centres, far tighter than the spheres for elongated
-            // shapes.
-            let overlap_axis = match hint.last {
-                Last::Overlap { .. } => last_axis,
-                _ => None,
-            };
+            // The shapes' extreme points along an axis tighten both bounds: along the last query's
+            // direction turned with the first shape (exact again where the pair turns about that
+            // direction, as two coaxial motors facing each other do), then (unless the box bounds
+            // did) along the line between the enclosing spheres' centres, far tighter than the
+            // spheres for elongated shapes.
             let centre = (!boxes_exact).then(|| {
                 let (oi, oj) = (block.outer[s][i * n + kk], block.outer[s][j * n + kk]);
                 (oj - oi).normalize_or(Vec3::Z)
             });
-            for axis in overlap_axis.into_iter().chain(centre) {
+            for axis in last_axis.into_iter().chain(centre) {
                 let (lo, hi) = axis_bounds(a, &pa, b, &pb, axis, &mut hint.anchors);
                 lower = lower.max(lo);
                 upper = upper.min(hi);
@@ -564,11 +561,17 @@ impl PlacedPair<'_> {
 
     /// The exact signed distance.
     pub fn distance(&self) -> f64 {
-        signed_distance(
+        self.distance_hinted(&mut Hint::default())
+    }
+
+    /// The exact signed distance, starting from and leaving in `hint` what the last query found.
+    pub fn distance_hinted(&self, hint: &mut Hint) -> f64 {
+        signed_distance_hinted(
             self.a,
             &self.a.pose(&self.link_a),
             self.b,
             &self.b.pose(&self.link_b),
+            hint,
         )
     }
 }

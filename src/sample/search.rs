@@ -45,22 +45,25 @@ pub struct SearchOutcome {
 
 /// DOF indices whose joints lie between the pair's links (mimic joints count through their leader).
 pub fn path_dofs(engine: &Engine, link_a: usize, link_b: usize) -> Vec<usize> {
-    let robot = &engine.robot;
-    let mut dofs: Vec<usize> = robot
+    let mut dofs: Vec<usize> = engine
+        .robot
         .path_joints(link_a, link_b)
         .into_iter()
-        .filter_map(|j| {
-            let leader = robot.joints[j].mimic.map_or(j, |m| m.joint);
-            engine
-                .kinematics
-                .dofs()
-                .iter()
-                .position(|d| d.joint == leader)
-        })
+        .filter_map(|j| joint_dof(engine, j))
         .collect();
     dofs.sort_unstable();
     dofs.dedup();
     dofs
+}
+
+/// The DOF that moves joint `joint` (its own, or its leader's for a mimic joint), if it moves.
+pub fn joint_dof(engine: &Engine, joint: usize) -> Option<usize> {
+    let leader = engine.robot.joints[joint].mimic.map_or(joint, |m| m.joint);
+    engine
+        .kinematics
+        .dofs()
+        .iter()
+        .position(|d| d.joint == leader)
 }
 
 /// Searches pair `pair` of set `set`, starting from the sampling witness `witness`.

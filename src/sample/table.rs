@@ -1,123 +1,305 @@
-//! Pairs whose relative pose depends on one degree of freedom (adjacent links, a finger and its mimic
-//! twin) are tabulated over that DOF once. With a Lipschitz constant L of the distance in the DOF, the
-//! table bounds the distance at any value: |d(x) - d(g)| <= L |x - g| for the nearest grid value g.
-//! Sampling then runs an exact query only where those bounds cannot rule out a new minimum, maximum or
-//! collision verdict, so the results stay exact.
+//! Pairs whose relative pose depends on one or two degrees of freedom (adjacent links, a finger and its
+//! mimic twin, links two joints apart, two hips on one trunk) are tabulated over those DOFs once, on a
+//! grid. With a Lipschitz constant L_d of the distance in each DOF d, the table bounds the distance at
+//! any configuration x: |d(x) - d(g)| <= sum_d L_d |x_d - g_d| for every grid point g, and the corners
+//! of the grid cell around x give the tightest such bounds. Sampling then runs an exact query only
+//! where those bounds cannot rule out a new minimum, maximum or collision verdict, so the results stay
+//! exact.
 
 use super::engine::Engine;
-use super::search::path_dofs;
+use super::search::{joint_dof, path_dofs};
+use crate::collision::Hint;
 use crate::robot::JointKind;
 
-/// The slack a table aims for: grid points close enough that the bound between two of them is within
-/// this of the exact distance (m), as fine as [`MAX_GRID`] allows.
+/// Most DOFs a table spans.
+pub const MAX_RANK: usize = 2;
+
+/// The slack a table aims for: grid points close enough that the bound inside a cell is within this of
+/// the exact distance (m), as fine as [`MAX_POINTS`] allows.
 const TARGET_SLACK: f64 = 1e-5;
 
-/// Fewest and most grid points per table.
-const MIN_GRID: usize = 64;
-const MAX_GRID: usize = 1024;
+/// Most grid points per table, by rank. A table costs one exact query per point to build and four
+/// bytes per point to keep.
+const MAX_POINTS: [usize; MAX_RANK] = [1024, 1024];
 
-/// The distance of one pair tabulated over its single DOF.
-#[derive(Debug, Clone)]
-pub struct Table {
+/// Fewest grid points per axis, by rank.
+const MIN_POINTS: [usize; MAX_RANK] = [64, 8];
+
+/// One DOF of a table: its grid and how fast the distance can change along it.
+#[derive(Debug, Clone, Copy)]
+struct Axis {
     /// The DOF index.
-    pub dof: usize,
+    dof: usize,
+    /// The first grid value (the DOF's lower limit).
     lower: f64,
+    /// Grid spacing, and its inverse.
     step: f64,
-    values: Vec<f64>,
+    inv_step: f64,
+    /// Grid points.
+    points: usize,
+    /// Distance between consecutive values of the axis's grid index in the value array.
+    stride: usize,
+    /// Lipschitz constant of the distance in this DOF (m per unit of the DOF), slightly inflated so
+    /// rounding cannot make a bound too tight.
     lipschitz: f64,
 }
 
+/// The distance of one pair tabulated over the DOFs it depends on.
+#[derive(Debug, Clone)]
+pub struct Table {
+    axes: Vec<Axis>,
+    /// The distance at every grid point, the last axis varying fastest, rounded to `f32`.
+    values: Vec<f32>,
+    /// At least the largest rounding error of `values` (m).
+    rounding: f64,
+}
+
 impl Table {
-    /// Lower and upper bounds of the signed distance at DOF value `x`, from the two grid values
-    /// around it.
+    /// The DOFs the table spans, in increasing order.
+    pub fn dofs(&self) -> impl Iterator<Item = usize> + '_ {
+        self.axes.iter().map(|a| a.dof)
+    }
+
+    /// Grid points of the table.
+    pub fn points(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Lower and upper bounds of the signed distance at configuration `q` (all DOFs; the table reads
+    /// its own), from the grid values at the corners of the cell around it.
     #[inline]
-    pub fn bounds(&self, x: f64) -> (f64, f64) {
-        let t = (x - self.lower) / self.step;
-        let g = (t.floor().max(0.0) as usize).min(self.values.len() - 2);
-        let (v0, v1) = (self.values[g], self.values[g + 1]);
-        let s0 = self.lipschitz * (x - (self.lower + g as f64 * self.step)).abs();
-        let s1 = self.lipschitz * (self.lower + (g + 1) as f64 * self.step - x).abs();
-        ((v0 - s0).max(v1 - s1), (v0 + s0).min(v1 + s1))
+    pub fn bounds(&self, q: &[f64]) -> (f64, f64) {
+        match self.axes.len() {
+            1 => self.bounds_in::<1>(q),
+            _ => self.bounds_in::<2>(q),
+        }
+    }
+
+    #[inline]
+    fn bounds_in<const R: usize>(&self, q: &[f64]) -> (f64, f64) {
+        debug_assert_eq!(self.axes.len(), R);
+        // Per axis: the Lipschitz slack to the cell's lower and upper grid value. The cell found by
+        // rounding may be off by one at a boundary; the bounds hold from any grid point.
+        let (mut base, mut near, mut far, mut stride) = (0, [0.0; R], [0.0; R], [0; R]);
+        for (r, axis) in self.axes.iter().enumerate().take(R) {
+            let x = q[axis.dof];
+            let g =
+                (((x - axis.lower) * axis.inv_step).floor().max(0.0) as usize).min(axis.points - 2);
+            let x0 = axis.lower + g as f64 * axis.step;
+            near[r] = axis.lipschitz * (x - x0).abs();
+            far[r] = axis.lipschitz * (x0 + axis.step - x).abs();
+            stride[r] = axis.stride;
+            base += g * axis.stride;
+        }
+        let (mut lower, mut upper) = (f64::NEG_INFINITY, f64::INFINITY);
+        for corner in 0..1usize << R {
+            let (mut index, mut slack) = (base, 0.0);
+            for r in 0..R {
+                if corner >> r & 1 == 1 {
+                    index += stride[r];
+                    slack += far[r];
+                } else {
+                    slack += near[r];
+                }
+            }
+            let v = f64::from(self.values[index]);
+            lower = lower.max(v - slack);
+            upper = upper.min(v + slack);
+        }
+        (lower - self.rounding, upper + self.rounding)
     }
 }
 
-/// The table of pair `p` of set `s`, or `None` when the pair depends on zero or several DOFs.
+/// The table of pair `p` of set `s`, or `None` when the pair depends on no DOF or on more than
+/// [`MAX_RANK`], or when both shapes are spheres (whose sphere bounds are exact already).
 pub fn build(engine: &Engine, s: usize, p: usize) -> Option<Table> {
     let set = &engine.sets[s];
     let (i, j) = set.pairs[p];
     let (a, b) = (i as usize, j as usize);
-    let (la, lb) = (set.links[a], set.links[b]);
-    let [dof] = path_dofs(engine, la, lb)[..] else {
+    if set.shapes[a].is_ball() && set.shapes[b].is_ball() {
         return None;
-    };
-    let d = &engine.kinematics.dofs()[dof];
-    let home = engine.kinematics.home();
-    let poses = engine.kinematics.link_poses(&home);
-    // How fast the distance can change per unit of the DOF: at most as fast as either shape's points
-    // move relative to the other. With one moving joint on the path, turning one shape about its axis
-    // is turning the other back about it, so the closer of the two shapes bounds the rate. Otherwise a
-    // shape moves by the path joints above its own link (the path runs up from one link and down to
-    // the other), each as fast per radian as the shape's farthest point from its axis (taken at home);
-    // a moving joint between the shape and an axis shifts the shape's points by up to its own sweep,
-    // so each adds that sweep to the reach of the joints above it.
-    let span = d.upper - d.lower;
+    }
+    let (la, lb) = (set.links[a], set.links[b]);
+    let dofs = path_dofs(engine, la, lb);
+    if dofs.is_empty() || dofs.len() > MAX_RANK {
+        return None;
+    }
+    let lipschitz = lipschitz(engine, s, p, &dofs);
+    let spans: Vec<f64> = dofs
+        .iter()
+        .map(|&d| {
+            let d = &engine.kinematics.dofs()[d];
+            d.upper - d.lower
+        })
+        .collect();
+    let points = grid(&lipschitz, &spans);
+    let mut axes: Vec<Axis> = dofs
+        .iter()
+        .zip(&points)
+        .zip(lipschitz.iter().zip(&spans))
+        .map(|((&dof, &points), (&l, &span))| {
+            let step = span / (points - 1) as f64;
+            Axis {
+                dof,
+                lower: engine.kinematics.dofs()[dof].lower,
+                step,
+                inv_step: 1.0 / step,
+                points,
+                stride: 0,
+                lipschitz: l * (1.0 + 1e-9) + 1e-12,
+            }
+        })
+        .collect();
+    let mut stride = 1;
+    for axis in axes.iter_mut().rev() {
+        axis.stride = stride;
+        stride *= axis.points;
+    }
+    // Row by row, each query starting from the last one's points (neighbours on the grid are close).
+    let mut q = engine.kinematics.home();
+    let mut hint = Hint::default();
+    let values: Vec<f64> = (0..stride)
+        .map(|index| {
+            for axis in &axes {
+                let g = index / axis.stride % axis.points;
+                q[axis.dof] = axis.lower + g as f64 * axis.step;
+            }
+            let pair = engine.pair_at(s, p, &q);
+            pair.distance_hinted(&mut hint)
+        })
+        .collect();
+    // The bounds assume the computed distance changes no faster than the constants allow. Where it
+    // jumps between grid neighbours (a penetration depth from EPA can, by a fraction of a millimetre,
+    // in deep overlaps), the table would settle samples the exact query decides otherwise: none.
+    let jumps = axes.iter().any(|axis| {
+        (0..stride).any(|index| {
+            index / axis.stride % axis.points + 1 < axis.points
+                && (values[index + axis.stride] - values[index]).abs() > axis.lipschitz * axis.step
+        })
+    });
+    if jumps {
+        return None;
+    }
+    // Rounding to f32 moves a value by at most half a unit in its last place, 2^-24 of its size.
+    let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    Some(Table {
+        axes,
+        values: values.iter().map(|&v| v as f32).collect(),
+        rounding: largest * f64::powi(2.0, -23) + 1e-12,
+    })
+}
+
+/// Grid points per axis for Lipschitz constants `lipschitz` over spans `spans`: the slack in a cell
+/// is sum_d L_d step_d / 2, smallest for a given number of points when every axis contributes the same,
+/// so points go to the axis contributing most until the table holds [`MAX_POINTS`] or the slack is
+/// down to [`TARGET_SLACK`].
+fn grid(lipschitz: &[f64], spans: &[f64]) -> Vec<usize> {
+    let rank = lipschitz.len();
+    let (most, fewest) = (MAX_POINTS[rank - 1], MIN_POINTS[rank - 1]);
+    let mut points = vec![fewest; rank];
+    let slack = |points: &[usize], d: usize| lipschitz[d] * spans[d] / (2 * (points[d] - 1)) as f64;
+    loop {
+        let total: f64 = (0..rank).map(|d| slack(&points, d)).sum();
+        if total.is_nan() || total <= TARGET_SLACK {
+            return points;
+        }
+        let widest = (0..rank)
+            .max_by(|&x, &y| slack(&points, x).total_cmp(&slack(&points, y)))
+            .unwrap_or(0);
+        let more = points[widest] + (points[widest] / 8).max(1);
+        let product: usize = (0..rank)
+            .map(|d| if d == widest { more } else { points[d] })
+            .product();
+        if product > most {
+            return points;
+        }
+        points[widest] = more;
+    }
+}
+
+/// Per DOF of `dofs` (the DOFs pair `p` of set `s` depends on), how fast the distance can change per
+/// unit of it: at most as fast as either shape's points move relative to the other. A shape moves by
+/// the path joints above its own link, each as fast per radian as the shape's farthest point from its
+/// axis (taken at home, plus how far the joints in between can shift the shape); and turning a joint
+/// that hangs from the links' common ancestor is turning the other shape back about the same axis, so
+/// the nearer of the two shapes bounds its rate (with one joint on the path, the pair's exact reach).
+fn lipschitz(engine: &Engine, s: usize, p: usize, dofs: &[usize]) -> Vec<f64> {
+    let set = &engine.sets[s];
+    let (i, j) = set.pairs[p];
+    let (a, b) = (i as usize, j as usize);
+    let (la, lb) = (set.links[a], set.links[b]);
+    let poses = engine.kinematics.link_poses(&engine.kinematics.home());
     let path: Vec<usize> = engine
         .robot
         .path_joints(la, lb)
         .into_iter()
         .filter(|&j| engine.robot.joints[j].kind.is_actuated())
         .collect();
-    // The shape's farthest point from the joint's axis, and the distance's rate of change for a
-    // shape of that reach turned (or, prismatic, shifted) by the joint.
+    // The shape's farthest point from the joint's axis.
     let about = |k: usize, link: usize, joint: usize| -> f64 {
         let jt = &engine.robot.joints[joint];
         let frame = poses[jt.parent] * jt.origin;
         set.shapes[k].reach(&poses[link], frame.translation, frame.rotation * jt.axis)
     };
-    let speed = |joint: usize, reach: f64| -> f64 {
-        let jt = &engine.robot.joints[joint];
-        let rate = jt.mimic.map_or(1.0, |m| m.multiplier.abs());
-        match jt.kind {
-            JointKind::Revolute | JointKind::Continuous => rate * reach,
-            _ => rate,
-        }
+    // The distance's rate of change per unit of the joint's DOF, for a shape of that reach turned
+    // (or, prismatic, shifted) by the joint; and how far the joint moves such a shape over its range.
+    let rate = |joint: usize| {
+        engine.robot.joints[joint]
+            .mimic
+            .map_or(1.0, |m| m.multiplier.abs())
     };
-    let lipschitz = if let [joint] = path[..] {
-        speed(joint, about(a, la, joint).min(about(b, lb, joint)))
-    } else {
-        let above_a = engine.robot.path_joints(la, engine.robot.root);
-        let mut total = 0.0;
-        for (k, link, side) in [(a, la, true), (b, lb, false)] {
-            let mut sweep = 0.0;
-            for &joint in path.iter().filter(|j| above_a.contains(j) == side) {
-                let v = speed(joint, about(k, link, joint) + sweep);
-                total += v;
-                sweep += v * span;
-            }
-        }
-        total
-    };
-    // Between two grid points the slack is at most lipschitz * step / 2.
-    let wanted = (lipschitz * span / (2.0 * TARGET_SLACK)).ceil();
-    let grid = if wanted.is_finite() {
-        (wanted as usize).clamp(MIN_GRID, MAX_GRID)
-    } else {
-        MAX_GRID
-    };
-    let step = span / (grid - 1) as f64;
-    let mut q = home;
-    let values = (0..grid)
-        .map(|g| {
-            q[dof] = d.lower + g as f64 * step;
-            engine.pair_distance(s, p, &q)
+    let span = |joint: usize| {
+        joint_dof(engine, joint).map_or(0.0, |d| {
+            let d = &engine.kinematics.dofs()[d];
+            d.upper - d.lower
         })
-        .collect();
-    // Slightly inflated so rounding in the grid values cannot make a bound too tight.
-    Some(Table {
-        dof,
-        lower: d.lower,
-        step,
-        values,
-        lipschitz: lipschitz * (1.0 + 1e-9) + 1e-12,
-    })
+    };
+    let speed = |joint: usize, reach: f64| -> f64 {
+        match engine.robot.joints[joint].kind {
+            JointKind::Revolute | JointKind::Continuous => rate(joint) * reach,
+            _ => rate(joint),
+        }
+    };
+    let sweep = |joint: usize, reach: f64| -> f64 {
+        let turn = rate(joint) * span(joint);
+        match engine.robot.joints[joint].kind {
+            // A point at distance r from the axis turned by an angle t moves 2 r sin(t / 2).
+            JointKind::Revolute | JointKind::Continuous => reach * turn.min(2.0),
+            _ => turn,
+        }
+    };
+    // Per side (the path runs up from `a`'s link and down to `b`'s): its joints bottom-up, each
+    // turning the side's shape at the shape's reach about its axis plus how far the joints below
+    // shift it, and how far the side's joints shift the shape in all.
+    let above_a = engine.robot.path_joints(la, engine.robot.root);
+    let sides = [(a, la, true), (b, lb, false)];
+    let mut rates: Vec<(usize, f64)> = Vec::new();
+    let mut moved = [0.0; 2];
+    let mut tops = [None; 2];
+    for (s, &(k, link, side)) in sides.iter().enumerate() {
+        for &joint in path.iter().filter(|j| above_a.contains(j) == side) {
+            let reach = about(k, link, joint) + moved[s];
+            rates.push((joint, speed(joint, reach)));
+            moved[s] += sweep(joint, reach);
+            tops[s] = Some(rates.len() - 1);
+        }
+    }
+    // The top joint of a side turns about an axis fixed to the links' common ancestor; turning it is
+    // turning the other shape back about that axis, and only the other side's joints move that shape
+    // from it, so the other shape's reach there bounds the rate too.
+    for (s, top) in tops.iter().enumerate() {
+        if let Some(t) = *top {
+            let (joint, own) = rates[t];
+            let (k, link, _) = sides[1 - s];
+            rates[t].1 = own.min(speed(joint, about(k, link, joint) + moved[1 - s]));
+        }
+    }
+    let mut lipschitz = vec![0.0; dofs.len()];
+    for (joint, v) in rates {
+        if let Some(slot) = joint_dof(engine, joint).and_then(|d| dofs.iter().position(|&x| x == d))
+        {
+            lipschitz[slot] += v;
+        }
+    }
+    lipschitz
 }
