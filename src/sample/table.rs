@@ -60,11 +60,6 @@ impl Table {
         self.axes.iter().map(|a| a.dof)
     }
 
-    /// Grid points of the table.
-    pub fn points(&self) -> usize {
-        self.values.len()
-    }
-
     /// Lower and upper bounds of the signed distance at configuration `q` (all DOFs; the table reads
     /// its own), from the grid values at the corners of the cell around it.
     #[inline]
