@@ -62,12 +62,13 @@ impl Last {
 }
 
 impl Hint {
-    /// With the shapes posed at `pa`, `pb` (`b` the second shape): an upper bound on the signed distance, and the axis
-    /// (from `a` towards `b`, turned with `a`) along which the last query found the shapes apart or
-    /// overlapping, a good axis for [`super::axis_bounds`] when the pair moved little. After a query that found them
-    /// apart, the bound is the distance between its two points (points of the shapes in any pose);
-    /// after an overlap, minus the depths of its deep point in both shapes where it lies inside both
-    /// (the two balls of those radii around it lie in the shapes and cannot be separated by less).
+    /// With the shapes posed at `pa`, `pb` (`b` the second shape): an upper bound on the signed
+    /// distance, and the axis (from `a` towards `b`, turned with `a`) along which the last query found
+    /// the shapes apart or overlapping, a good axis for [`super::axis_bounds`] when the pair moved
+    /// little. After a query that found them apart, the bound is the distance between its two points
+    /// (points of the shapes in any pose); after an overlap, minus the depths of its deep point in both
+    /// shapes where it lies inside both (the two balls of those radii around it lie in the shapes and
+    /// cannot be separated by less).
     #[inline]
     pub fn bounds(&self, pa: &Pose, b: &CollisionShape, pb: &Pose) -> (f64, Option<Vec3>) {
         match self.last {

@@ -29,6 +29,11 @@ impl Dof {
             0.5 * (self.lower + self.upper)
         }
     }
+
+    /// The width of the range (continuous joints: a full turn).
+    pub fn span(&self) -> f64 {
+        self.upper - self.lower
+    }
 }
 
 #[derive(Debug, Clone)]

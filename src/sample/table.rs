@@ -122,10 +122,7 @@ pub fn build(engine: &Engine, s: usize, p: usize) -> Option<Table> {
     let lipschitz = lipschitz(engine, s, p, &dofs);
     let spans: Vec<f64> = dofs
         .iter()
-        .map(|&d| {
-            let d = &engine.kinematics.dofs()[d];
-            d.upper - d.lower
-        })
+        .map(|&d| engine.kinematics.dofs()[d].span())
         .collect();
     let points = grid(&lipschitz, &spans);
     let mut axes: Vec<Axis> = dofs
@@ -243,12 +240,8 @@ fn lipschitz(engine: &Engine, s: usize, p: usize, dofs: &[usize]) -> Vec<f64> {
             .mimic
             .map_or(1.0, |m| m.multiplier.abs())
     };
-    let span = |joint: usize| {
-        joint_dof(engine, joint).map_or(0.0, |d| {
-            let d = &engine.kinematics.dofs()[d];
-            d.upper - d.lower
-        })
-    };
+    let span =
+        |joint: usize| joint_dof(engine, joint).map_or(0.0, |d| engine.kinematics.dofs()[d].span());
     let speed = |joint: usize, reach: f64| -> f64 {
         match engine.robot.joints[joint].kind {
             JointKind::Revolute | JointKind::Continuous => rate(joint) * reach,
