@@ -15,7 +15,7 @@ mod window;
 pub use box_bound::{BoundingBox, PlacedBox, box_bounds};
 pub use hull_support::HullSupport;
 pub use load::ShapeSet;
-pub use window::{Hint, Last, Window, window};
+pub use window::{Hint, Last, Tether, Window, window};
 
 use crate::math::{Pose, Vec3, is_finite};
 use crate::shapes::{ConvexMesh, Geometry};

@@ -61,7 +61,58 @@ impl Last {
     }
 }
 
+/// Two points, one of each shape of a pair (each in its link's frame), and how deep they lie inside
+/// their shapes together: in any configuration the distance between them less that depth bounds the
+/// pair's signed distance from above (the balls of those radii around them lie in the shapes, and
+/// cannot be separated by less). Taken where the pair was farthest apart, it is tight there, where the
+/// maximum's samples lie.
+#[derive(Debug, Clone, Copy)]
+pub struct Tether {
+    a: Vec3,
+    b: Vec3,
+    depth: f64,
+}
+
+impl Tether {
+    /// The bound with the links posed at `link_a` and `link_b`.
+    #[inline]
+    pub fn upper(&self, link_a: &Pose, link_b: &Pose) -> f64 {
+        link_a
+            .transform_point(self.a)
+            .distance(link_b.transform_point(self.b))
+            - self.depth
+    }
+}
+
 impl Hint {
+    /// The tether of the points behind [`Hint::bounds`]' upper bound, the shapes posed at `pa` and
+    /// `pb` (`None` before any query, or after an overlap whose deep point is not inside both shapes).
+    pub fn tether(
+        &self,
+        a: &CollisionShape,
+        pa: &Pose,
+        b: &CollisionShape,
+        pb: &Pose,
+    ) -> Option<Tether> {
+        let (p, q, depth) = match self.last {
+            Last::None => return None,
+            Last::Apart { points: [p, q], .. } => (p, q, 0.0),
+            Last::Overlap { deep, depth, .. } => {
+                let q = pb.inverse_transform_point(pa.transform_point(deep));
+                let in_b = b.depth(q);
+                if depth <= 0.0 || in_b <= 0.0 {
+                    return None;
+                }
+                (deep, q, depth + in_b)
+            }
+        };
+        Some(Tether {
+            a: a.local.transform_point(p),
+            b: b.local.transform_point(q),
+            depth,
+        })
+    }
+
     /// With the shapes posed at `pa`, `pb` (`b` the second shape): an upper bound on the signed
     /// distance, and the axis (from `a` towards `b`, turned with `a`) along which the last query found
     /// the shapes apart or overlapping, a good axis for [`super::axis_bounds`] when the pair moved
@@ -287,6 +338,43 @@ mod tests {
     use super::*;
     use crate::collision::signed_distance;
     use crate::collision::test_shapes::{link, pick, shapes, values};
+
+    /// A tether taken from a query at one pose bounds the signed distance from above at any other
+    /// pose of the two links, overlapping or apart, and is the distance itself where it was taken.
+    #[test]
+    fn tethers_bound_the_distance_from_above_everywhere_and_tightly_where_taken() {
+        let mut r = values(17);
+        let shapes = shapes(&mut r);
+        let (mut taken, mut overlapping) = (0, 0);
+        for _ in 0..3000 {
+            let (a, b) = (&shapes[pick(&mut r)], &shapes[pick(&mut r)]);
+            let (la, lb) = (link(&mut r), link(&mut r));
+            let (pa, pb) = (a.pose(&la), b.pose(&lb));
+            let mut hint = Hint::default();
+            let d = super::super::signed_distance_hinted(a, &pa, b, &pb, &mut hint);
+            let Some(tether) = hint.tether(a, &pa, b, &pb) else {
+                // Only an overlap whose deep point is not inside both shapes gives none.
+                assert!(d <= 0.0, "no tether for a pair {d} m apart");
+                continue;
+            };
+            taken += 1;
+            overlapping += usize::from(d < 0.0);
+            if d > 0.0 {
+                let at = tether.upper(&la, &lb);
+                assert!((at - d).abs() < 1e-9, "{at} where taken, distance {d}");
+            }
+            for _ in 0..5 {
+                let (la, lb) = (link(&mut r), link(&mut r));
+                let d = signed_distance(a, &a.pose(&la), b, &b.pose(&lb));
+                let upper = tether.upper(&la, &lb);
+                assert!(d <= upper + 1e-9, "tether {upper} below the distance {d}");
+            }
+        }
+        assert!(
+            taken > 2500 && overlapping > 100,
+            "{taken} tethers, {overlapping} overlapping"
+        );
+    }
 
     /// Windows around random pairs' exact signed distances: an answer `Inside` is always right, and
     /// windows that hold an overlapping pair's distance with a millimetre to spare are mostly settled

@@ -5,7 +5,7 @@ use super::rng::Rng;
 use super::stats::PairStats;
 use super::table::{self, Table};
 use crate::collision::{
-    CollisionShape, Hint, PlacedBox, ShapeSet, Window, axis_bounds, box_bounds,
+    CollisionShape, Hint, PlacedBox, ShapeSet, Tether, Window, axis_bounds, box_bounds,
     signed_distance_hinted, sphere_bounds, window,
 };
 use crate::error::Result;
@@ -61,6 +61,9 @@ pub struct ChunkRun<'a> {
     /// [`Engine::scout`]), or empty: the run's minimum and maximum are at least as extreme as theirs,
     /// so no chunk needs an exact query for a sample that could not beat them either.
     pub known: &'a [Vec<PairStats>],
+    /// Per set and pair, a tether taken where the pair was farthest apart (see [`Engine::tethers`]),
+    /// or empty.
+    pub tethers: &'a [Vec<Option<Tether>>],
 }
 
 /// What one pair's samples share within a run.
@@ -72,6 +75,8 @@ struct PairRun<'a> {
     tol: f64,
     /// Statistics over samples every run contains (see [`ChunkRun::known`]).
     known: Option<&'a PairStats>,
+    /// An upper bound for the samples the maximum could come from (see [`ChunkRun::tethers`]).
+    tether: Option<&'a Tether>,
 }
 
 /// Samples per block: a chunk is placed a block at a time, and each pair then runs through the block
@@ -173,6 +178,55 @@ impl Engine {
         );
     }
 
+    /// The configurations of samples `0..end` under `seed`, one row of DOF values after another.
+    fn configurations(&self, seed: u64, end: u64) -> Vec<f64> {
+        let mut all = Vec::new();
+        let mut q = Vec::new();
+        for chunk in 0..end.div_ceil(CHUNK) {
+            let mut rng = Rng::new(seed, chunk);
+            for _ in chunk * CHUNK..((chunk + 1) * CHUNK).min(end) {
+                self.draw(&mut rng, &mut q);
+                all.extend_from_slice(&q);
+            }
+        }
+        all
+    }
+
+    /// Per set and pair, the tether of the pair's closest points (or deep point) at the sample where
+    /// `stats` (over samples `0..end` under `seed`) found it farthest apart: its distance bounds the
+    /// pair's from above in every sample, tightly near the maximum, where the inscribed spheres'
+    /// bound is loose for thin shapes. `None` for rigid pairs and pairs of spheres (whose sphere
+    /// bounds are exact), in parallel over pairs.
+    pub fn tethers(
+        &self,
+        seed: u64,
+        end: u64,
+        stats: &[Vec<PairStats>],
+    ) -> Vec<Vec<Option<Tether>>> {
+        let configurations = self.configurations(seed, end);
+        let dofs = self.kinematics.dofs().len();
+        (self.sets.iter().zip(stats).enumerate())
+            .map(|(s, (set, stats))| {
+                (0..set.pairs.len())
+                    .into_par_iter()
+                    .map(|p| {
+                        let (i, j) = set.pairs[p];
+                        let (a, b) = (&set.shapes[i as usize], &set.shapes[j as usize]);
+                        let k = stats[p].max_sample;
+                        if !set.moving[p] || (a.is_ball() && b.is_ball()) || k >= end {
+                            return None;
+                        }
+                        let k = k as usize;
+                        let pair = self.pair_at(s, p, &configurations[k * dofs..(k + 1) * dofs]);
+                        let mut hint = Hint::default();
+                        pair.distance_hinted(&mut hint);
+                        hint.tether(a, &a.pose(&pair.link_a), b, &b.pose(&pair.link_b))
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
     /// Signed distance of pair `p` of set `s` at configuration `q` (exact).
     pub fn pair_distance(&self, s: usize, p: usize, q: &[f64]) -> f64 {
         self.pair_at(s, p, q).distance()
@@ -241,7 +295,7 @@ impl Engine {
     /// block length) through samples `start..end`, every pair running through them in order with its
     /// own hint, in parallel over pairs: a chunk's work, but with the extremes and hints of all the
     /// samples before, so the extremes it ends with are close to the run's and prune every later chunk
-    /// (see [`ChunkRun::known`]). `run.known` is not used.
+    /// (see [`ChunkRun::known`]). `run.known` is not used; `run.tethers` is.
     pub fn scout(&self, run: &ChunkRun, start: u64, end: u64, stats: &mut [Vec<PairStats>]) {
         debug_assert_eq!(start % BLOCK as u64, 0);
         let mut hints: Vec<Vec<Hint>> = self
@@ -277,6 +331,7 @@ impl Engine {
                                 mean_budget: run.mean_budget[s][p],
                                 tol: run.tol,
                                 known: None,
+                                tether: run.tethers.get(s).and_then(|v| v[p].as_ref()),
                             };
                             self.observe_block(set, s, p, &block, &pair_run, hint, st);
                         });
@@ -320,6 +375,7 @@ impl Engine {
                             mean_budget: run.mean_budget[s][p],
                             tol: run.tol,
                             known: known.map(|v| &v[p]),
+                            tether: run.tethers.get(s).and_then(|v| v[p].as_ref()),
                         };
                         self.observe_block(set, s, p, block, &pair_run, hint, st);
                     }
@@ -425,6 +481,7 @@ impl Engine {
             mean_budget,
             tol,
             known,
+            tether,
         } = *run;
         let k = block.first + kk as u64;
         let control = control((lower, upper));
@@ -457,6 +514,13 @@ impl Engine {
             return;
         }
         let n = block.len;
+        let poses = &block.links[kk * self.robot.links.len()..];
+        if let (Some(t), false) = (tether, exact_mean) {
+            upper = upper.min(t.upper(&poses[set.links[i]], &poses[set.links[j]]));
+            if settle(lower, upper, st) {
+                return;
+            }
+        }
         // Whether both shapes are boxes: their box bounds are then their extreme points along the
         // centre line.
         let mut boxes_exact = false;
@@ -476,7 +540,6 @@ impl Engine {
             }
         }
         // Shape poses only for the pairs that get past the cheap bounds.
-        let poses = &block.links[kk * self.robot.links.len()..];
         let (pa, pb) = (a.pose(&poses[set.links[i]]), b.pose(&poses[set.links[j]]));
         if !exact_mean {
             // Cheap upper bounds from the pair's hint: the distance between the points that bounded

@@ -46,6 +46,7 @@ pub(super) fn mean_budgets(
         mean_budget: &uniform,
         tol: 0.0,
         known: &[],
+        tethers: &[],
     };
     let mut pilot = engine.empty_stats();
     engine.scout(&run, 0, PILOT, &mut pilot);
@@ -92,6 +93,7 @@ pub(super) fn accumulate(
         mean_budget: &budgets,
         tol: opts.tolerance,
         known: &[],
+        tethers: &[],
     };
     let scouted = SCOUT.min(opts.samples);
     let (mut known, start) = if pilot.is_empty() {
@@ -99,8 +101,14 @@ pub(super) fn accumulate(
     } else {
         (pilot, PILOT)
     };
+    // Tethers where the pilot found each pair farthest apart for the scout, and where the scout did
+    // for the chunks.
+    let tethers = engine.tethers(opts.seed, start, &known);
+    run.tethers = &tethers;
     engine.scout(&run, start, scouted, &mut known);
+    let tethers = engine.tethers(opts.seed, scouted, &known);
     run.known = &known;
+    run.tethers = &tethers;
     let merge = |mut a: Vec<Vec<PairStats>>, b: &[Vec<PairStats>]| {
         for (x, y) in a.iter_mut().zip(b) {
             x.iter_mut().zip(y).for_each(|(s, o)| s.merge(o));
