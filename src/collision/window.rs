@@ -98,12 +98,8 @@ impl Hint {
             Last::None => return None,
             Last::Apart { points: [p, q], .. } => (p, q, 0.0),
             Last::Overlap { deep, depth, .. } => {
-                let q = pb.inverse_transform_point(pa.transform_point(deep));
-                let in_b = b.depth(q);
-                if depth <= 0.0 || in_b <= 0.0 {
-                    return None;
-                }
-                (deep, q, depth + in_b)
+                let (q, both) = deep_in_both(deep, depth, pa, b, pb)?;
+                (deep, q, both)
             }
         };
         Some(Tether {
@@ -136,16 +132,26 @@ impl Hint {
                 deep,
                 depth,
             } => {
-                let in_b = b.depth(pb.inverse_transform_point(pa.transform_point(deep)));
-                let upper = if depth > 0.0 && in_b > 0.0 {
-                    -(depth + in_b)
-                } else {
-                    f64::INFINITY
-                };
+                let upper = deep_in_both(deep, depth, pa, b, pb).map_or(f64::INFINITY, |(_, d)| -d);
                 (upper, Some(pa.rotation * normal))
             }
         }
     }
+}
+
+/// An overlap's deep point `deep` (frame of `a`, posed at `pa`, lying `depth` inside it) in the frame
+/// of `b` (posed at `pb`), and its depths in both shapes together, where it lies inside both.
+#[inline]
+fn deep_in_both(
+    deep: Vec3,
+    depth: f64,
+    pa: &Pose,
+    b: &CollisionShape,
+    pb: &Pose,
+) -> Option<(Vec3, f64)> {
+    let q = pb.inverse_transform_point(pa.transform_point(deep));
+    let in_b = b.depth(q);
+    (depth > 0.0 && in_b > 0.0).then_some((q, depth + in_b))
 }
 
 /// What [`window`] decided.

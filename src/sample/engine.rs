@@ -1,11 +1,12 @@
 //! The sampling engine: shapes of the selected types prepared for queries, sample configurations drawn
 //! per chunk, and the per-pair loop that runs exact queries only where the sphere bounds cannot decide.
 
+use super::block::{BLOCK, Block};
 use super::rng::Rng;
 use super::stats::PairStats;
 use super::table::{self, Table};
 use crate::collision::{
-    CollisionShape, Hint, PlacedBox, ShapeSet, Tether, Window, axis_bounds, box_bounds,
+    CollisionShape, Hint, ShapeSet, Tether, Window, axis_bounds, box_bounds,
     signed_distance_hinted, sphere_bounds, window,
 };
 use crate::error::Result;
@@ -79,30 +80,6 @@ struct PairRun<'a> {
     tether: Option<&'a Tether>,
 }
 
-/// Samples per block: a chunk is placed a block at a time, and each pair then runs through the block
-/// with its statistics in cache (the order of samples per pair, and so every result, is unchanged).
-const BLOCK: usize = 128;
-
-/// Consecutive samples placed together: their configurations, link poses and, per set, the world
-/// centres of every shape's enclosing and inscribed spheres (a shape's over the block side by side).
-#[derive(Debug, Default, Clone)]
-pub struct Block {
-    /// Index of the block's first sample.
-    first: u64,
-    /// Number of samples.
-    len: usize,
-    /// Configurations, `len` rows of one value per DOF.
-    q: Vec<f64>,
-    /// Link poses, `len` rows of one pose per link.
-    links: Vec<Pose>,
-    /// Per set, enclosing-sphere centres: `len` per shape, shape after shape.
-    outer: Vec<Vec<Vec3>>,
-    /// Per set, inscribed-sphere centres, laid out as `outer`.
-    inner: Vec<Vec<Vec3>>,
-    /// Per set, the shapes' bounding boxes placed, laid out as `outer` (empty for spheres).
-    boxes: Vec<Vec<PlacedBox>>,
-}
-
 /// Per-worker scratch space, reused across samples.
 #[derive(Default)]
 pub struct Scratch {
@@ -168,7 +145,8 @@ impl Engine {
         q
     }
 
-    fn draw(&self, rng: &mut Rng, q: &mut Vec<f64>) {
+    /// Draws the next configuration from `rng` into `q`.
+    pub(super) fn draw(&self, rng: &mut Rng, q: &mut Vec<f64>) {
         q.clear();
         q.extend(
             self.kinematics
@@ -249,40 +227,6 @@ impl Engine {
         }
     }
 
-    /// Draws the next `len` samples from `rng` (the first numbered `first`) and places them.
-    fn place(&self, rng: &mut Rng, first: u64, len: usize, block: &mut Block) {
-        let (dofs, links) = (self.kinematics.dofs().len(), self.robot.links.len());
-        block.first = first;
-        block.len = len;
-        block.q.clear();
-        block.links.clear();
-        let (mut q, mut poses) = (Vec::with_capacity(dofs), Vec::with_capacity(links));
-        for _ in 0..len {
-            self.draw(rng, &mut q);
-            self.kinematics.link_poses_into(&q, &mut poses);
-            block.q.extend_from_slice(&q);
-            block.links.extend_from_slice(&poses);
-        }
-        block.outer.resize(self.sets.len(), Vec::new());
-        block.inner.resize(self.sets.len(), Vec::new());
-        block.boxes.resize(self.sets.len(), Vec::new());
-        for (s, set) in self.sets.iter().enumerate() {
-            let (outer, inner) = (&mut block.outer[s], &mut block.inner[s]);
-            let boxes = &mut block.boxes[s];
-            outer.clear();
-            inner.clear();
-            boxes.clear();
-            for (shape, &link) in set.shapes.iter().zip(&set.links) {
-                let poses = || (0..len).map(|kk| &block.links[kk * links + link]);
-                outer.extend(poses().map(|pose| pose.transform_point(shape.outer_center)));
-                inner.extend(poses().map(|pose| pose.transform_point(shape.inner_center)));
-                if let Some(b) = &shape.bounding_box {
-                    boxes.extend(poses().map(|pose| b.place(pose)));
-                }
-            }
-        }
-    }
-
     /// Empty statistics for every pair of every set.
     pub fn empty_stats(&self) -> Vec<Vec<PairStats>> {
         self.sets
@@ -314,7 +258,7 @@ impl Engine {
                     at += len as u64;
                     continue;
                 }
-                self.place(&mut rng, at, len, &mut block);
+                block.place(self, &mut rng, at, len);
                 for (s, (set, (stats, hints))) in self
                     .sets
                     .iter()
@@ -365,7 +309,7 @@ impl Engine {
         let mut start = first;
         while start < last {
             let len = (last - start).min(BLOCK as u64) as usize;
-            self.place(&mut rng, start, len, block);
+            block.place(self, &mut rng, start, len);
             let sets = self.sets.iter().zip(acc.iter_mut()).zip(&mut scratch.hints);
             for (s, ((set, stats), hints)) in sets.enumerate() {
                 let known = run.known.get(s);

@@ -5,6 +5,7 @@
 //! statistics merge exactly (fixed-point sums, smallest-index witnesses), so any thread count and any
 //! sharding give the same bytes.
 
+mod block;
 mod engine;
 mod finalize;
 mod reasons;
