@@ -5,7 +5,7 @@
 //! the penetration depth (the shortest translation that separates them) when they overlap.
 
 mod box_bound;
-mod depth_bracket;
+mod epa;
 mod hull_support;
 mod load;
 #[cfg(test)]
@@ -19,7 +19,7 @@ pub use window::{Hint, Last, Tether, Window, window};
 
 use crate::math::{Pose, Vec3, is_finite};
 use crate::shapes::{ConvexMesh, Geometry};
-use parry3d_f64::query;
+use parry3d_f64::query::{self, gjk::CsoPoint};
 use parry3d_f64::shape::{Ball, Cuboid, SupportMap};
 
 /// A shape ready for queries: the parry shape, its pose in the link frame, and two spheres in the link
@@ -269,18 +269,15 @@ pub fn witness_points(
     b: &CollisionShape,
     pb: &Pose,
 ) -> Option<(Vec3, Vec3)> {
-    let pos12 = pa.inv_mul(pb);
-    // Any prediction above the true distance makes GJK return the closest points.
-    let contact = query::details::contact_support_map_support_map(
-        &pos12,
-        a.support_map(),
-        b.support_map(),
-        f64::MAX,
-    )?;
-    Some((
-        pa.transform_point(contact.point1),
-        pb.transform_point(contact.point2),
-    ))
+    if let (Kind::Ball(ba), Kind::Ball(bb)) = (&a.kind, &b.kind) {
+        let dir = (pb.translation - pa.translation).normalize_or(Vec3::X);
+        return Some((
+            pa.translation + dir * ba.radius,
+            pb.translation - dir * bb.radius,
+        ));
+    }
+    let (_, p1, p2) = exact_query(a, b, &pa.inv_mul(pb), &mut Hint::default())?;
+    Some((pa.transform_point(p1), pa.transform_point(p2)))
 }
 
 /// A sphere inside the hull: centred at the vertex mean, radius the distance to the nearest face plane.
@@ -314,44 +311,51 @@ pub fn signed_distance_hinted(
         // Exact in closed form, and the most frequent query of the sphere types.
         return pa.translation.distance(pb.translation) - ba.radius - bb.radius;
     }
-    // GJK on support maps for every other pair. (parry's dedicated cuboid-cuboid distance derives
-    // closest points from a separating axis and was measured off by up to 1.7 cm, see
-    // tests/exactness.rs.) The same steps as parry's support-map distance, keeping the points.
-    let pos12 = pa.inv_mul(pb);
+    exact_query(a, b, &pa.inv_mul(pb), hint).map_or(0.0, |(d, _, _)| d)
+}
+
+/// The exact signed distance of two shapes (not both spheres), `b` posed at `pos12` in the frame of
+/// `a`, with a point of each in that frame: the closest points when apart, the deepest points when
+/// overlapping. `hint` receives what the query found. `None` only if GJK and EPA both fail.
+fn exact_query(
+    a: &CollisionShape,
+    b: &CollisionShape,
+    pos12: &Pose,
+    hint: &mut Hint,
+) -> Option<(f64, Vec3, Vec3)> {
+    // GJK on support maps for every pair, boxes too: parry's dedicated cuboid-cuboid distance derives
+    // closest points from a separating axis and was measured off by up to 1.7 cm, and its cuboid
+    // contact's depth by 0.18 mm (tests/exactness.rs). The same steps as parry's support-map
+    // distance, keeping the points.
     let (g1, g2) = (a.support_map(), b.support_map());
-    let mut simplex = window::start_simplex(&pos12, g1, g2);
-    let d = match query::gjk::closest_points(&pos12, g1, g2, f64::MAX, true, &mut simplex) {
-        query::gjk::GJKResult::ClosestPoints(p1, p2, _) => {
-            let d = (p1 - p2).length();
-            if d > 0.0 {
-                hint.last = Last::apart(p1, p2, &pos12);
-            }
-            d
+    let mut simplex = window::start_simplex(pos12, g1, g2);
+    if let query::gjk::GJKResult::ClosestPoints(p1, p2, _) =
+        query::gjk::closest_points(pos12, g1, g2, f64::MAX, true, &mut simplex)
+    {
+        let d = (p1 - p2).length();
+        if d > 0.0 {
+            hint.last = Last::apart(p1, p2, pos12);
+            return Some((d, p1, p2));
         }
-        // Overlap, or (never seen) no convergence: the penetration query below decides.
-        _ => 0.0,
-    };
-    if d > 0.0 {
-        return d;
     }
-    let contact = match (&a.kind, &b.kind) {
-        // World frame, so the normal goes back into a's.
-        (Kind::Box(ca), Kind::Box(cb)) => {
-            query::contact(pa, ca, pb, cb, 0.0).ok().flatten().map(|c| {
-                let to_a = |x| pa.inverse_transform_point(x);
-                (
-                    c.dist,
-                    pa.rotation.inverse() * c.normal1,
-                    to_a(c.point1),
-                    to_a(c.point2),
-                )
-            })
+    // Overlap (or touching): EPA from GJK's last simplex to the exact depth. parry's EPA, which stops
+    // at a relative tolerance and was measured off by up to 0.84 mm, only where GJK ended on a single
+    // point (touching) or ours degenerates.
+    let n = simplex.dimension() + 1;
+    let mut points = [CsoPoint::origin(); 4];
+    for (i, p) in points[..n].iter_mut().enumerate() {
+        *p = *simplex.point(i);
+    }
+    let mut anchors = hint.anchors;
+    let exact = epa::penetration(&points[..n], |dir| {
+        window::cso_support(a, b, pos12, dir, &mut anchors)
+    });
+    let (dist, normal, p1, p2) = match exact {
+        Some(p) => (-p.depth, p.normal, p.point_a, p.point_b),
+        None => {
+            let c = query::details::contact_support_map_support_map(pos12, g1, g2, 0.0)?;
+            (c.dist, c.normal1, c.point1, pos12.transform_point(c.point2))
         }
-        _ => query::details::contact_support_map_support_map(&pos12, g1, g2, 0.0)
-            .map(|c| (c.dist, c.normal1, c.point1, pos12.transform_point(c.point2))),
-    };
-    let Some((dist, normal, p1, p2)) = contact else {
-        return 0.0;
     };
     if dist <= 0.0 && is_finite(normal) {
         // Between the two deepest points: inside both shapes, about half the depth into each.
@@ -362,5 +366,5 @@ pub fn signed_distance_hinted(
             depth: a.depth(deep),
         };
     }
-    dist.min(0.0)
+    Some((dist.min(0.0), p1, p2))
 }

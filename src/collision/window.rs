@@ -7,7 +7,7 @@
 //! its distance from the origin bounds the distance from above, and every support point bounds it from
 //! below. [`window`] stops as soon as the bracket lies inside the window, or proves it cannot.
 
-use super::depth_bracket::depth_within;
+use super::epa::depth_within;
 use super::{CollisionShape, Kind, signed_distance_hinted};
 use crate::math::{Pose, Vec3};
 use parry3d_f64::query::gjk::{self, CsoPoint, VoronoiSimplex};
@@ -239,9 +239,9 @@ pub fn window(
             // Inside a tetrahedron, EPA steps bracket the depth until they settle the window.
             let inside = (lo < lower && 0.0 < hi)
                 || (simplex.dimension() == 3 && {
-                    let tetrahedron = [0, 1, 2, 3].map(|i| simplex.point(i).point);
-                    let support = |dir| cso_support(a, b, &pos12, dir, &mut anchors).point;
-                    depth_within(tetrahedron, support, lo, hi, lower)
+                    let tetrahedron = [0, 1, 2, 3].map(|i| *simplex.point(i));
+                    let support = |dir| cso_support(a, b, &pos12, dir, &mut anchors);
+                    depth_within(&tetrahedron, support, lo, hi, lower)
                 });
             hint.anchors = anchors;
             return if inside {
@@ -294,7 +294,7 @@ pub fn window(
 /// searches climb from `anchors` and leave theirs there: the directions of successive GJK and EPA
 /// steps change little.
 #[inline]
-fn cso_support(
+pub(super) fn cso_support(
     a: &CollisionShape,
     b: &CollisionShape,
     pos12: &Pose,
