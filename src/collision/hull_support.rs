@@ -20,6 +20,8 @@ pub struct HullSupport {
     starts: Vec<u32>,
     /// Face planes `(n, d)`: `n . x <= d` inside, `n` a unit vector.
     planes: Vec<(Vec3, f64)>,
+    /// The surface's triangles (indices into `vertices`).
+    triangles: Vec<[u32; 3]>,
 }
 
 /// The cell of direction `dir` (any length, not zero) in the table of climb starts, and for a cell the
@@ -108,12 +110,18 @@ impl HullSupport {
             neighbours: neighbours.concat(),
             starts,
             planes: mesh.planes(),
+            triangles: mesh.faces.clone(),
         }
     }
 
     /// The vertices.
     pub fn vertices(&self) -> &[Vec3] {
         &self.vertices
+    }
+
+    /// The surface's triangles (indices into [`HullSupport::vertices`]).
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
     }
 
     /// How deep `p` lies inside: its distance to the nearest face plane (negative outside).

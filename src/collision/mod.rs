@@ -8,6 +8,7 @@ mod box_bound;
 mod epa;
 mod hull_support;
 mod load;
+mod polish;
 #[cfg(test)]
 mod test_shapes;
 mod window;
@@ -15,6 +16,7 @@ mod window;
 pub use box_bound::{BoundingBox, PlacedBox, box_bounds};
 pub use hull_support::HullSupport;
 pub use load::ShapeSet;
+pub use polish::{closest_on_segments, closest_on_triangle};
 pub use window::{Hint, Last, Tether, Window, window};
 
 use crate::math::{Pose, Vec3, is_finite};
@@ -186,6 +188,21 @@ impl CollisionShape {
         }
     }
 
+    /// `f` of the shape's surface (own frame), `None` for a sphere.
+    fn with_surface<R>(&self, f: impl FnOnce(polish::Surface) -> R) -> Option<R> {
+        match &self.kind {
+            Kind::Ball(_) => None,
+            Kind::Box(c) => Some(f(polish::Surface {
+                vertices: &polish::box_corners(c.half_extents),
+                triangles: &polish::BOX_TRIANGLES,
+            })),
+            Kind::Hull(h) => Some(f(polish::Surface {
+                vertices: h.vertices(),
+                triangles: h.triangles(),
+            })),
+        }
+    }
+
     /// [`CollisionShape::support_from`] in the shape's own frame.
     #[inline]
     pub fn local_support_from(&self, dir: Vec3, from: u32) -> (Vec3, u32) {
@@ -280,6 +297,36 @@ pub fn witness_points(
     Some((pa.transform_point(p1), pa.transform_point(p2)))
 }
 
+/// How far GJK's distance may lie above its lower bound before [`polished`] makes it exact, in metres.
+const POLISH_GAP: f64 = 1e-7;
+
+/// GJK's distance and closest points `found` (frame of `a`, `b` posed at `pos12`), made exact where its
+/// bounds had not met within [`POLISH_GAP`] (it stalls on thin pieces): the gap along the direction
+/// between the points bounds the distance from below, and the shapes' triangles near their support
+/// planes along it hold the closest points (`polish`).
+fn polished(
+    a: &CollisionShape,
+    b: &CollisionShape,
+    pos12: &Pose,
+    found: (f64, Vec3, Vec3),
+    mut anchors: [u32; 2],
+) -> (f64, Vec3, Vec3) {
+    let (d, p1, p2) = found;
+    let u = (p2 - p1) / d;
+    let lower = -u.dot(window::cso_support(a, b, pos12, u, &mut anchors).point);
+    if d - lower <= POLISH_GAP {
+        return found;
+    }
+    let exact = a
+        .with_surface(|sa| b.with_surface(|sb| polish::exact_distance(sa, sb, pos12, u, d)))
+        .flatten()
+        .flatten();
+    match exact {
+        Some(e) if e.0 < d => e,
+        _ => found,
+    }
+}
+
 /// A sphere inside the hull: centred at the vertex mean, radius the distance to the nearest face plane.
 fn inscribed(h: &ConvexMesh) -> (Vec3, f64) {
     let c = h.centroid();
@@ -334,6 +381,7 @@ fn exact_query(
     {
         let d = (p1 - p2).length();
         if d > 0.0 {
+            let (d, p1, p2) = polished(a, b, pos12, (d, p1, p2), hint.anchors);
             hint.last = Last::apart(p1, p2, pos12);
             return Some((d, p1, p2));
         }
