@@ -325,15 +325,13 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_bracket_decides_only_windows_that_hold_the_depth() {
-        // Two axis-aligned boxes overlapping by 0.02 along x (less than along y and z): the CSO is
-        // the box of centre ca - cb and half extents ha + hb, and the signed distance is -0.02.
+    /// Two axis-aligned boxes overlapping by 0.02 along x (less than along y and z): the CSO is the
+    /// box of centre `ca - cb` and half extents `ha + hb`, and the signed distance is -0.02. Its
+    /// support function, and a tetrahedron of its corners around the origin.
+    fn two_boxes() -> (impl Fn(Vec3) -> CsoPoint, [CsoPoint; 4]) {
         let (ha, hb) = (Vec3::new(0.1, 0.2, 0.3), Vec3::new(0.05, 0.1, 0.1));
         let (ca, cb) = (Vec3::ZERO, Vec3::new(0.13, 0.01, -0.02));
         let (c, h) = (ca - cb, ha + hb);
-        let support = box_support(c, h);
-        // A tetrahedron of CSO corners around the origin.
         let corner = |x: f64, y: f64, z: f64| {
             CsoPoint::single_point(c + Vec3::new(x * h.x, y * h.y, z * h.z))
         };
@@ -343,6 +341,12 @@ mod tests {
             corner(-1.0, 1.0, -1.0),
             corner(-1.0, -1.0, 1.0),
         ];
+        (box_support(c, h), tet)
+    }
+
+    #[test]
+    fn the_bracket_decides_only_windows_that_hold_the_depth() {
+        let (support, tet) = two_boxes();
         // Windows around the exact value are decided; windows that miss it never are.
         for (lo, hi) in [
             (-0.03, -0.01),
@@ -373,16 +377,7 @@ mod tests {
     /// tetrahedron, triangle or segment through the origin, none of whose faces is the CSO's.
     #[test]
     fn the_exact_depth_of_two_boxes_is_their_least_overlap() {
-        let (c, h) = (Vec3::new(-0.13, -0.01, 0.02), Vec3::new(0.15, 0.3, 0.4));
-        let corner = |x: f64, y: f64, z: f64| {
-            CsoPoint::single_point(c + Vec3::new(x * h.x, y * h.y, z * h.z))
-        };
-        let tet = [
-            corner(1.0, 1.0, 1.0),
-            corner(1.0, -1.0, -1.0),
-            corner(-1.0, 1.0, -1.0),
-            corner(-1.0, -1.0, 1.0),
-        ];
+        let (support, tet) = two_boxes();
         // A segment and a triangle of CSO points through the origin (every point within 0.02 of
         // the origin lies in the CSO).
         let (x, y) = (tet[0], tet[1]);
@@ -390,7 +385,7 @@ mod tests {
         let segment = [x, near(x.point)];
         let triangle = [x, y, near(x.point + y.point)];
         for simplex in [&tet[..], &triangle[..], &segment[..]] {
-            let p = penetration(simplex, box_support(c, h)).expect("a box CSO converges");
+            let p = penetration(simplex, &support).expect("a box CSO converges");
             assert!((p.depth - 0.02).abs() < 1e-12, "depth {}", p.depth);
             assert!(p.normal.distance(Vec3::X) < 1e-12, "normal {}", p.normal);
             assert!((p.point_a - p.point_b).length() - p.depth < 1e-12);

@@ -184,24 +184,14 @@ pub fn closest_on_segments(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3) -> (Vec3, Vec
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A small deterministic stream of values in [-1, 1).
-    fn values(seed: u64) -> impl FnMut() -> f64 {
-        let mut state = seed;
-        move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        }
-    }
+    use crate::collision::test_shapes::values;
 
     /// The closest points found are at least as close as any of a dense grid of points on the
     /// triangle and segments, and lie on them.
     #[test]
     fn closest_points_beat_a_dense_grid() {
         let mut r = values(3);
-        let mut point = || Vec3::new(r(), r(), r());
+        let mut point = || Vec3::new(r(), r(), r()) * 2.0;
         for _ in 0..200 {
             let (p, a, b, c) = (point(), point(), point(), point());
             let x = closest_on_triangle(p, a, b, c);

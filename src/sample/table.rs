@@ -161,8 +161,9 @@ pub fn build(engine: &Engine, s: usize, p: usize) -> Option<Table> {
         })
         .collect();
     // The bounds assume the computed distance changes no faster than the constants allow. Where it
-    // jumps between grid neighbours (a penetration depth from EPA can, by a fraction of a millimetre,
-    // in deep overlaps), the table would settle samples the exact query decides otherwise: none.
+    // jumps between grid neighbours, the table would settle samples the exact query decides otherwise:
+    // none. (parry's EPA jumped by a fraction of a millimetre in deep overlaps and dropped 6 of b1's
+    // 4,292 tables; the exact query's EPA drops none, so this is a guard.)
     let jumps = axes.iter().any(|axis| {
         (0..stride).any(|index| {
             index / axis.stride % axis.points + 1 < axis.points
