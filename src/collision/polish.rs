@@ -65,21 +65,8 @@ pub(super) fn exact_distance(
     let min_b = tb.iter().copied().fold(f64::INFINITY, f64::min);
     // A little more than the band: rounding must not drop the triangle that holds a closest point.
     let band = (upper - (min_b - max_a)).max(0.0) * (1.0 + 1e-6) + 1e-12;
-    let near = |tri: &[u32; 3], t: &[f64], inside: &dyn Fn(f64) -> bool| {
-        tri.iter().any(|&i| inside(t[i as usize]))
-    };
-    let slab_a: Vec<[Vec3; 3]> = a
-        .triangles
-        .iter()
-        .filter(|tri| near(tri, &ta, &|t| t >= max_a - band))
-        .map(|tri| tri.map(|i| a.vertices[i as usize]))
-        .collect();
-    let slab_b: Vec<[Vec3; 3]> = b
-        .triangles
-        .iter()
-        .filter(|tri| near(tri, &tb, &|t| t <= min_b + band))
-        .map(|tri| tri.map(|i| b_vertices[i as usize]))
-        .collect();
+    let slab_a = slab(a.triangles, a.vertices, &ta, |t| t >= max_a - band);
+    let slab_b = slab(b.triangles, &b_vertices, &tb, |t| t <= min_b + band);
     let mut best: Option<(f64, Vec3, Vec3)> = None;
     for ta in &slab_a {
         for tb in &slab_b {
@@ -91,6 +78,21 @@ pub(super) fn exact_distance(
         }
     }
     best
+}
+
+/// The triangles with a corner whose position `t` (along the direction) passes `keep`, as their corner
+/// points.
+fn slab(
+    triangles: &[[u32; 3]],
+    vertices: &[Vec3],
+    t: &[f64],
+    keep: impl Fn(f64) -> bool,
+) -> Vec<[Vec3; 3]> {
+    triangles
+        .iter()
+        .filter(|tri| tri.iter().any(|&i| keep(t[i as usize])))
+        .map(|tri| tri.map(|i| vertices[i as usize]))
+        .collect()
 }
 
 /// The closest points of two triangles (apart): the nearer of every corner against the other
