@@ -5,7 +5,8 @@
 
 Checks: every joint's parent and child exist, each link has at most one parent, there is a
 single root; every mesh file resolves (relative path or package://) and parses (binary or
-ASCII STL, OBJ, COLLADA with <unit>, <up_axis> and node <matrix>); every mesh is closed (each
+ASCII STL, OBJ, COLLADA with node <matrix>, its <unit> and <up_axis> ignored as MoveIt and
+Pinocchio ignore them); every mesh is closed (each
 edge shared by exactly two triangles), consistently oriented and encloses a positive volume.
 Prints per link its collision elements and triangles. Exits 1 on any failure.
 """
@@ -69,14 +70,11 @@ def read_obj(text):
 
 
 def read_dae(text):
-    """COLLADA: every <instance_geometry> of the scene, through its node <matrix> chain, then
-    <unit meter> and the <up_axis> conversion (Y_UP: x' = x, y' = -z, z' = y; X_UP: x' = -y, y' = x)."""
+    """COLLADA: every <instance_geometry> of the scene, through its node <matrix> chain. <unit meter>
+    and <up_axis> are ignored, as MoveIt and Pinocchio ignore them (Assimp puts both on the root
+    node, which they reset)."""
     root = ET.fromstring(text)
     ns = root.tag.split("}")[0] + "}" if root.tag.startswith("{") else ""
-    unit_el = root.find(f"{ns}asset/{ns}unit")
-    unit = float(unit_el.get("meter", "1")) if unit_el is not None else 1.0
-    up_el = root.find(f"{ns}asset/{ns}up_axis")
-    up = up_el.text.strip() if up_el is not None else "Y_UP"  # the COLLADA default
     by_id = {el.get("id"): el for el in root.iter() if el.get("id")}
     verts, tris = [], []
 
@@ -88,7 +86,7 @@ def read_dae(text):
         for inst in node.findall(f"{ns}instance_geometry"):
             v, t = dae_geometry(by_id[inst.get("url")[1:]], ns, by_id)
             base = len(verts)
-            verts.extend(up_convert(up, [unit * x for x in apply(m, p)]) for p in v)
+            verts.extend(apply(m, p) for p in v)
             tris.extend(tuple(base + i for i in tri) for tri in t)
         for child in node.findall(f"{ns}node"):
             visit(child, m)
@@ -118,10 +116,6 @@ def dae_geometry(geometry, ns, by_id):
             k += c
     return verts, tris
 
-
-def up_convert(up, p):
-    x, y, z = p
-    return {"Z_UP": (x, y, z), "Y_UP": (x, -z, y), "X_UP": (-y, x, z)}[up]
 
 
 def matmul(a, b):

@@ -182,17 +182,16 @@ def write_obj(path, mesh, to_file=lambda p: p):
 
 
 def write_dae(path, mesh, unit=1.0, up="Z_UP", matrix=None):
-    """COLLADA 1.4.1. A loader maps a file vertex v to up_convert(unit * (matrix @ v)), so the
-    file stores v = matrix^-1 (up_convert^-1(p) / unit). matrix: 4x4 rows, translation in file units."""
+    """COLLADA 1.4.1. The consumers (MoveIt, Pinocchio: Assimp with its root node reset) map a file
+    vertex v to matrix @ v, ignoring <unit> and <up_axis>, so the file stores v = matrix^-1 p; `unit`
+    and `up` are only declared. matrix: 4x4 rows, translation in metres."""
     m = matrix or [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]
 
     def to_file(p):
-        if up == "Y_UP":  # loader: x' = x, y' = -z, z' = y
-            p = (p[0], p[2], -p[1])
-        q = [c / unit - m[i][3] for i, c in enumerate(p)]
+        q = [c - m[i][3] for i, c in enumerate(p)]
         return tuple(sum(m[r][i] * q[r] for r in range(3)) for i in range(3))  # R^T q
 
-    places = 3 if unit == 0.001 else 6
+    places = 6
     v = file_verts(mesh, to_file, places)
     name, tris = path.stem, mesh[1]
     pos = " ".join(fmt(x, places) for p in v for x in p)
@@ -291,7 +290,7 @@ def finger_mesh():  # left finger; pad face at x = -0.001 (1 mm past the centre 
 # ---------------------------------------------------------------- the robot
 
 ALONG_Y = (HALF_PI, 0, 0)  # rpy of a <collision> turning its z axis onto the link's y axis (z -> -y)
-LINK4_MATRIX = [[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 100], [0, 0, 0, 1]]  # +90 deg about x, 100 mm up
+LINK4_MATRIX = [[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0.1], [0, 0, 0, 1]]  # +90 deg about x, 0.1 m up
 
 # The "always" pair: shoulder_stop (fixed to link1) against link2's key plate; only joint 2 moves
 # between them. The key is a flat plate tangent to the underside of link2's hub (bottom face at
@@ -306,9 +305,9 @@ KEY_THICK, STOP_THICK, STOP_HALF = 0.01, 0.02, 0.105
 MESHES = {  # file -> (builder, writer, writer options); every builder returns element-frame metres
     "base.stl": (base_mesh, write_stl_binary, {}),
     "link1.obj": (link1_mesh, write_obj, {}),
-    "link2.dae": (link2_mesh, write_dae, {"up": "Y_UP"}),
+    "link2.dae": (link2_mesh, write_dae, {}),
     "link3.stl": (link3_mesh, write_stl_ascii, {}),
-    "link4.dae": (link4_mesh, write_dae, {"unit": 0.001, "matrix": LINK4_MATRIX}),
+    "link4.dae": (link4_mesh, write_dae, {"matrix": LINK4_MATRIX}),
     "link5.obj": (link5_mesh, write_obj, {"to_file": lambda p: (p[0], p[1], p[2] / 1.2)}),  # scale 1 1 1.2
     "link6.stl": (link6_mesh, write_stl_binary, {}),
     "hand.dae": (hand_mesh, write_dae, {}),
@@ -651,15 +650,14 @@ never reach it.
   in this folder names the package `demo_arm`. All other meshes use relative paths.
 - `link5.obj`: OBJ with `scale="1 1 1.2"`: the file stops at z = 0.167, scaled at 0.20, where it
   overlaps link6's hub; unscaled, the forearm would float 2.7 cm short of the wrist.
-- `link2.dae`: COLLADA with `<up_axis>Y_UP</up_axis>`, converted as x' = x, y' = -z, z' = y. In
-  the link frame the hub lies along y over y ∈ [-0.07, 0.09]. Ignoring the up axis stands it on
-  end along z; converting with the wrong sign gives y ∈ [-0.09, 0.07].
-- `link4.dae`: COLLADA in millimetres (`<unit meter="0.001">`, vertex coordinates in mm) under a
-  node `<matrix>`: +90° about x and a 100 mm translation. A vertex v maps to 0.001 (R v + t),
-  the unit scaling the translation too (as assimp does): the L-bracket lands at x ∈ [-0.13,
-  0.055], z ∈ [-0.055, 0.14]. Ignoring the matrix puts it in the wrong plane and 0.1 m off;
-  scaling vertices but not the translation puts it 100 m off (mesh-loader 0.1.13 does this).
-- `hand.dae`: plain COLLADA (metres, Z_UP, identity matrix), and the clearly non-convex link (a
+- `link2.dae`, `link4.dae`, `hand.dae`: COLLADA in metres, Z_UP, as MoveIt and Pinocchio read
+  it: they ignore `<unit>` and `<up_axis>` (Assimp puts both on the root node, which they reset),
+  so a demo that declared others would be checked in a different geometry than it shows. In
+  link2's frame the hub lies along y over y ∈ [-0.07, 0.09].
+- `link4.dae`: its triangles sit under a node `<matrix>`: +90° about x and a 0.1 m translation. A
+  vertex v maps to R v + t: the L-bracket lands at x ∈ [-0.13, 0.055], z ∈ [-0.055, 0.14].
+  Ignoring the matrix puts it in the wrong plane and 0.1 m off.
+- `hand.dae`: identity matrix, and the clearly non-convex link (a
   U-shaped palm: mesh volume / hull volume 0.6). link4's L is mildly non-convex (0.91); link2,
   link3, link5 and link6 are convex bodies of revolution.
 - Every DAE stores per-triangle normals as a second `<input>` (offset 1), so `<p>` interleaves

@@ -8,6 +8,7 @@ pub mod error;
 pub mod export;
 pub mod formats;
 pub mod import;
+pub mod inspect;
 pub mod math;
 pub mod matrix;
 pub mod mesh;

@@ -300,3 +300,49 @@ fn scm_view_without_the_viewer_says_how_to_build_it() {
         "{err}"
     );
 }
+
+#[test]
+fn inspect_rejects_a_configuration_of_the_wrong_length_or_not_numbers() {
+    let dir = common::scratch("inspect-bad");
+    let urdf = dir.join("r.urdf");
+    std::fs::write(&urdf, robot_with(ARM)).unwrap();
+    std::fs::write(dir.join("arm.stl"), tetra()).unwrap();
+    let urdd = dir.join("r.urdd");
+    let o = common::scm_str(&[
+        "preprocess",
+        urdf.to_str().unwrap(),
+        "-o",
+        urdd.to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for (config, want) in [
+        (
+            "0.1 0.2",
+            "expected 1 finite joint values (one per DOF: j1), got 2",
+        ),
+        ("abc", "`abc` is not a number"),
+    ] {
+        let o = common::scm_str(&["inspect", urdd.to_str().unwrap(), "--config", config]);
+        assert_eq!(o.status.code(), Some(2), "{config}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains("--config") && err.contains(want), "{err}");
+    }
+    // A good one places the arm: its box moves with the joint.
+    let o = common::scm_str(&[
+        "inspect",
+        urdd.to_str().unwrap(),
+        "--config",
+        "1.0",
+        "--json",
+    ]);
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["configurations"][0]["joints"]["j1"], 1.0);
+    let arm = &v["configurations"][0]["links"][1];
+    assert_eq!(arm["link"], "arm");
+    // The tetrahedron's x edge (0.1 m) turned by 1 rad about z reaches y = 0.1 sin 1.
+    let max_y = arm["bounds"]["max"][1].as_f64().unwrap();
+    assert!((max_y - 0.1 * 1f64.sin()).abs() < 1e-6, "{max_y}");
+}

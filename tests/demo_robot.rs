@@ -15,6 +15,7 @@ fn demo_arm_preprocesses_with_known_structure() {
         urdf: common::demo_urdf(),
         out: out.clone(),
         packages: PackagePaths::new(),
+        visual_fallback: false,
         params: ShapeParams::default(),
         force: false,
     };

@@ -3,7 +3,7 @@
 mod common;
 
 use scm::math::{Pose, Vec3};
-use scm::robot::{Kinematics, PackagePaths, load_urdf};
+use scm::robot::{Kinematics, UrdfOptions, load_urdf};
 use std::f64::consts::FRAC_PI_2;
 
 const URDF: &str = r#"<?xml version="1.0"?>
@@ -54,7 +54,7 @@ fn load() -> scm::robot::Robot {
     let dir = common::scratch("fk");
     let path = dir.join("fk.urdf");
     std::fs::write(&path, URDF).unwrap();
-    load_urdf(&path, &PackagePaths::new()).unwrap()
+    load_urdf(&path, &UrdfOptions::default()).unwrap()
 }
 
 #[test]

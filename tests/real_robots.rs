@@ -5,7 +5,7 @@ mod common;
 
 use scm::preprocess::{PreprocessOptions, link_mesh, load_meshes, preprocess};
 use scm::progress::NoProgress;
-use scm::robot::{PackagePaths, load_urdf};
+use scm::robot::{PackagePaths, UrdfOptions, load_urdf};
 use scm::shapes::{Geometry, Scope, ShapeParams, ShapeType};
 use scm::urdd::Urdd;
 use std::collections::BTreeMap;
@@ -27,6 +27,7 @@ fn run(urdf: &Path, out: &Path) -> scm::preprocess::PreprocessReport {
         urdf: urdf.to_path_buf(),
         out: out.to_path_buf(),
         packages: PackagePaths::new(),
+        visual_fallback: false,
         params: ShapeParams::default(),
         force: false,
     };
@@ -35,7 +36,7 @@ fn run(urdf: &Path, out: &Path) -> scm::preprocess::PreprocessReport {
 
 /// Every mesh vertex of every link lies inside its sphere, OBB and hull (and inside some piece).
 fn check_containment(urdf: &Path, urdd: &Urdd) {
-    let robot = load_urdf(urdf, &PackagePaths::new()).unwrap();
+    let robot = load_urdf(urdf, &UrdfOptions::default()).unwrap();
     let meshes = load_meshes(&robot, urdf).unwrap();
     for t in ShapeType::ALL {
         let file = urdd.shapes(t).unwrap();

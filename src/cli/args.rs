@@ -33,6 +33,8 @@ pub enum Command {
     Diff(DiffArgs),
     /// Preprocess, sample and export in one call; each stage is skipped when it is up to date.
     Run(RunArgs),
+    /// Show the collision geometry scm loaded for every link, placed at configurations (world boxes).
+    Inspect(InspectArgs),
     /// Open the interactive viewer on a URDD (needs the scm-viewer binary).
     View(ViewArgs),
     /// Measure queries with skips against without (time) and the skips' verdicts against the meshes.
@@ -80,9 +82,15 @@ pub struct RunArgs {
 /// Flags of shape construction (preprocess).
 #[derive(Debug, Args)]
 pub struct ShapeArgs {
-    /// Where `package://NAME/...` points, as NAME=DIR (repeatable).
+    /// Where `package://NAME/...` (or `model://NAME/...`) points, as NAME=DIR (repeatable); searched
+    /// before ROS_PACKAGE_PATH, AMENT_PREFIX_PATH (GZ_SIM_RESOURCE_PATH, GAZEBO_MODEL_PATH for
+    /// model://) and the URDF's parent folders.
     #[arg(long = "package-path", value_name = "NAME=DIR")]
     pub package_paths: Vec<String>,
+    /// Build shapes for links without <collision> from their <visual> geometry. MoveIt, Pinocchio,
+    /// MuJoCo and Drake give such links no collision geometry, so their pairs are checked by no one.
+    #[arg(long)]
+    pub visual_fallback: bool,
     /// Most vertices a link's simplified convex hull may keep.
     #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(8..=4096))]
     pub max_hull_vertices: u32,
@@ -154,6 +162,23 @@ pub struct DiffArgs {
     /// The link-level type standing for scm.
     #[arg(long = "type", default_value = "hull", value_parser = parse_shape_type)]
     pub shape_type: scm::shapes::ShapeType,
+}
+
+/// `scm inspect`.
+#[derive(Debug, Args)]
+pub struct InspectArgs {
+    /// The URDD directory (after `scm preprocess`).
+    pub urdd: PathBuf,
+    /// A configuration: one value per DOF in the URDD's order, space- or comma-separated
+    /// (repeatable); default the home configuration.
+    #[arg(long, value_name = "VALUES", conflicts_with = "random")]
+    pub config: Vec<String>,
+    /// N random configurations uniform within the joint limits instead.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub random: Option<u32>,
+    /// Seed of --random.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
 }
 
 /// `scm view`.

@@ -4,14 +4,15 @@ pub mod args;
 mod progress;
 
 use args::{
-    BenchArgs, Cli, Command, DiffArgs, ExportArgs, ExportFlags, ImportMoveitArgs, PreprocessArgs,
-    RunArgs, SampleArgs, SamplingArgs, ShapeArgs, ViewArgs,
+    BenchArgs, Cli, Command, DiffArgs, ExportArgs, ExportFlags, ImportMoveitArgs, InspectArgs,
+    PreprocessArgs, RunArgs, SampleArgs, SamplingArgs, ShapeArgs, ViewArgs,
 };
 use scm::bench::{BenchOptions, BenchReport, bench};
 use scm::compare::{CompareOptions, compare, format_comparison};
 use scm::error::{Error, Result};
 use scm::export::{ExportOptions, ExportReport, export};
 use scm::import::{ImportOptions, import_moveit};
+use scm::inspect::{Configurations, inspect};
 use scm::preprocess::{PreprocessOptions, PreprocessReport, preprocess};
 use scm::robot::PackagePaths;
 use scm::sample::{SampleOptions, SampleReport, Shard, merge_shards, sample};
@@ -27,6 +28,7 @@ pub fn run(cli: &Cli) -> Result<()> {
         Command::ImportMoveit(args) => run_import(cli, args),
         Command::Diff(args) => run_diff(cli, args),
         Command::Run(args) => run_all(cli, args),
+        Command::Inspect(args) => run_inspect(cli, args),
         Command::View(args) => run_view(args),
         Command::Bench(args) => run_bench(cli, args),
     }
@@ -44,7 +46,7 @@ fn preprocess_options(
     shapes: &ShapeArgs,
     force: bool,
 ) -> Result<PreprocessOptions> {
-    let mut packages = PackagePaths::new();
+    let mut packages = PackagePaths::from_env();
     for entry in &shapes.package_paths {
         let (name, dir) = PackagePaths::parse_entry(entry).ok_or_else(|| {
             bad_flag(
@@ -58,6 +60,7 @@ fn preprocess_options(
         urdf: urdf.to_path_buf(),
         out: out.to_path_buf(),
         packages,
+        visual_fallback: shapes.visual_fallback,
         params: ShapeParams {
             max_hull_vertices: shapes.max_hull_vertices as usize,
             decomposition: DecompParams {
@@ -264,6 +267,74 @@ fn run_diff(cli: &Cli, args: &DiffArgs) -> Result<()> {
     } else {
         print!("{}", format_comparison(&c, &args.urdd));
     }
+    Ok(())
+}
+
+/// `scm inspect`: each link's loaded geometry and its world boxes at the configurations asked for.
+fn run_inspect(cli: &Cli, args: &InspectArgs) -> Result<()> {
+    let which = if let Some(count) = args.random {
+        Configurations::Random {
+            count: count as usize,
+            seed: args.seed,
+        }
+    } else if args.config.is_empty() {
+        Configurations::Home
+    } else {
+        let parse = |text: &String| -> Result<Vec<f64>> {
+            text.split(|c: char| c == ',' || c.is_whitespace())
+                .filter(|s| !s.is_empty())
+                .map(|s| {
+                    s.parse::<f64>().map_err(|_| {
+                        bad_flag("--config", format!("`{s}` is not a number (in \"{text}\")"))
+                    })
+                })
+                .collect()
+        };
+        Configurations::Given(args.config.iter().map(parse).collect::<Result<_>>()?)
+    };
+    let report = inspect(&args.urdd, &which)?;
+    if cli.json {
+        print_json(&report);
+        return Ok(());
+    }
+    let mut out = String::new();
+    for (i, placed) in report.configurations.iter().enumerate() {
+        let q: Vec<String> = placed.q.iter().map(|v| format!("{v:.4}")).collect();
+        out += &format!("configuration {i}: [{}]\n", q.join(" "));
+        for link in &report.links {
+            let counts: Vec<String> = link
+                .elements
+                .iter()
+                .map(|e| match &e.uri {
+                    Some(uri) => format!("{uri} ({} vertices)", e.vertices),
+                    None => e.kind.to_string(),
+                })
+                .collect();
+            let bounds = placed
+                .links
+                .iter()
+                .find(|p| p.link == link.link)
+                .map_or_else(
+                    || "no collision geometry".to_string(),
+                    |p| {
+                        let f = |v: [f64; 3]| format!("({:.4}, {:.4}, {:.4})", v[0], v[1], v[2]);
+                        format!("box {} .. {}", f(p.bounds.min), f(p.bounds.max))
+                    },
+                );
+            let source = serde_json::to_value(link.source)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default();
+            out += &format!(
+                "  {}: {source}, {} element(s){}{}; {bounds}\n",
+                link.link,
+                link.elements.len(),
+                if counts.is_empty() { "" } else { ": " },
+                counts.join(", ")
+            );
+        }
+    }
+    print!("{out}");
     Ok(())
 }
 

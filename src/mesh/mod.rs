@@ -1,10 +1,13 @@
 //! Triangle meshes: loading mesh files and tessellating URDF primitives into one link-frame soup.
 
+mod collada;
 mod load;
+mod obj;
 mod primitive;
+mod stl;
 
-pub use load::load_mesh_file;
-pub use primitive::tessellate;
+pub use load::{MeshFile, load_mesh_file};
+pub use primitive::{primitive_bounds, tessellate};
 
 use crate::math::{Pose, Vec3};
 
@@ -36,6 +39,32 @@ impl TriMesh {
                 [t[0] + base, t[1] + base, t[2] + base]
             }
         }));
+    }
+
+    /// Drops the vertices no triangle uses (Assimp's meshes hold only those), keeping the order of the
+    /// rest.
+    pub fn compact(&mut self) {
+        let mut used = vec![false; self.vertices.len()];
+        for t in &self.triangles {
+            for &i in t {
+                used[i as usize] = true;
+            }
+        }
+        if used.iter().all(|&u| u) {
+            return;
+        }
+        let mut new_index = vec![0u32; self.vertices.len()];
+        let mut kept = Vec::with_capacity(self.vertices.len());
+        for (i, v) in self.vertices.iter().enumerate() {
+            if used[i] {
+                new_index[i] = kept.len() as u32;
+                kept.push(*v);
+            }
+        }
+        for t in &mut self.triangles {
+            *t = t.map(|i| new_index[i as usize]);
+        }
+        self.vertices = kept;
     }
 
     /// Signed volume enclosed by the triangles (meaningful for closed, outward-oriented meshes).

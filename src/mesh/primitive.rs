@@ -2,7 +2,7 @@
 //! them contains the primitive (the curved ones over-approximate by well under 1%).
 
 use super::TriMesh;
-use crate::math::Vec3;
+use crate::math::{Pose, Vec3};
 use crate::robot::ShapeSource;
 use std::f64::consts::PI;
 
@@ -22,6 +22,34 @@ pub fn tessellate(shape: &ShapeSource) -> Option<TriMesh> {
         ShapeSource::Capsule { radius, length } => lathe(&round_profile(radius, length), false),
         ShapeSource::Mesh { .. } => return None,
     })
+}
+
+/// The exact axis-aligned bounds of a primitive placed by `pose` (`None` for meshes): what the true
+/// shape occupies, not its circumscribing mesh.
+pub fn primitive_bounds(shape: &ShapeSource, pose: &Pose) -> Option<(Vec3, Vec3)> {
+    let axis = pose.rotation * Vec3::Z;
+    let extent = match *shape {
+        ShapeSource::Box { size } => {
+            let h = size * 0.5;
+            let (x, y, z) = (
+                pose.rotation * Vec3::X,
+                pose.rotation * Vec3::Y,
+                pose.rotation * Vec3::Z,
+            );
+            x.abs() * h.x + y.abs() * h.y + z.abs() * h.z
+        }
+        ShapeSource::Sphere { radius } => Vec3::splat(radius),
+        ShapeSource::Cylinder { radius, length } => {
+            let side = (Vec3::ONE - axis * axis).max(Vec3::ZERO);
+            axis.abs() * (length / 2.0)
+                + Vec3::new(side.x.sqrt(), side.y.sqrt(), side.z.sqrt()) * radius
+        }
+        ShapeSource::Capsule { radius, length } => {
+            axis.abs() * (length / 2.0) + Vec3::splat(radius)
+        }
+        ShapeSource::Mesh { .. } => return None,
+    };
+    Some((pose.translation - extent, pose.translation + extent))
 }
 
 fn cuboid(h: Vec3) -> TriMesh {

@@ -2,15 +2,15 @@
 //! file once and rejecting empty or degenerate meshes with a message naming the URDF element.
 
 use crate::error::{Error, Result};
-use crate::mesh::{TriMesh, load_mesh_file, tessellate};
-use crate::robot::{Link, Robot, ShapeSource};
+use crate::mesh::{MeshFile, TriMesh, load_mesh_file, tessellate};
+use crate::robot::{GeometryElement, Link, Robot, ShapeSource};
 use crate::shapes::convex_hull;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Every mesh file the robot uses, loaded and checked, keyed by resolved path.
-pub type MeshCache = BTreeMap<PathBuf, TriMesh>;
+pub type MeshCache = BTreeMap<PathBuf, MeshFile>;
 
 /// `<link name="x"> <collision> (line N)`, for messages.
 fn element_label(link: &Link, line: u32) -> String {
@@ -39,10 +39,10 @@ pub fn load_meshes(robot: &Robot, urdf: &Path) -> Result<MeshCache> {
         .map(|(path, (element, uri))| {
             let fail =
                 |msg: String| Error::input(urdf, element.clone(), format!("mesh \"{uri}\": {msg}"));
-            let mesh = load_mesh_file(&path).map_err(fail)?;
+            let file = load_mesh_file(&path).map_err(fail)?;
             // Rejects single-point, collinear and flat meshes: they enclose nothing.
-            convex_hull(&mesh.vertices).map_err(|e| fail(format!("degenerate mesh: {e}")))?;
-            Ok((path, mesh))
+            convex_hull(&file.mesh.vertices).map_err(|e| fail(format!("degenerate mesh: {e}")))?;
+            Ok((path, file))
         })
         .collect()
 }
@@ -66,18 +66,49 @@ pub fn load_urdd_meshes(urdd: &crate::urdd::Urdd, robot: &Robot) -> Result<MeshC
 pub fn link_mesh(link: &Link, meshes: &MeshCache) -> TriMesh {
     let mut out = TriMesh::default();
     for g in &link.geometry {
-        match &g.shape {
-            ShapeSource::Mesh { path, scale, .. } => {
-                if let Some(m) = meshes.get(path) {
-                    out.append_transformed(m, &g.origin, *scale);
-                }
+        append_element(&mut out, g, meshes);
+    }
+    out
+}
+
+/// One geometry element's triangles in the link frame (a primitive as its circumscribing mesh).
+pub fn element_mesh(element: &GeometryElement, meshes: &MeshCache) -> TriMesh {
+    let mut out = TriMesh::default();
+    append_element(&mut out, element, meshes);
+    out
+}
+
+fn append_element(out: &mut TriMesh, g: &GeometryElement, meshes: &MeshCache) {
+    match &g.shape {
+        ShapeSource::Mesh { path, scale, .. } => {
+            if let Some(m) = meshes.get(path) {
+                out.append_transformed(&m.mesh, &g.origin, *scale);
             }
-            primitive => {
-                if let Some(m) = tessellate(primitive) {
-                    out.append_transformed(&m, &g.origin, crate::math::Vec3::ONE);
-                }
+        }
+        primitive => {
+            if let Some(m) = tessellate(primitive) {
+                out.append_transformed(&m, &g.origin, crate::math::Vec3::ONE);
             }
         }
     }
-    out
+}
+
+/// The notes of the mesh readers (a unit or up axis ignored as the consumers ignore it, a repaired
+/// header), one line per mesh file, naming it as the URDF does.
+pub fn mesh_notes(robot: &Robot, meshes: &MeshCache) -> Vec<String> {
+    let mut uris: BTreeMap<&PathBuf, &str> = BTreeMap::new();
+    for g in robot.links.iter().flat_map(|l| &l.geometry) {
+        if let ShapeSource::Mesh { uri, path, .. } = &g.shape {
+            uris.entry(path).or_insert(uri);
+        }
+    }
+    meshes
+        .iter()
+        .flat_map(|(path, file)| {
+            let uri = uris.get(path).copied().unwrap_or_default();
+            file.notes
+                .iter()
+                .map(move |note| format!("mesh \"{uri}\" {note}"))
+        })
+        .collect()
 }

@@ -3,11 +3,11 @@
 
 mod geometry;
 
-pub use geometry::{MeshCache, link_mesh, load_meshes, load_urdd_meshes};
+pub use geometry::{MeshCache, element_mesh, link_mesh, load_meshes, load_urdd_meshes, mesh_notes};
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;
-use crate::robot::{Kinematics, PackagePaths, Robot, ShapeSource, load_urdf};
+use crate::robot::{Kinematics, PackagePaths, Robot, ShapeSource, UrdfOptions, load_urdf};
 use crate::shapes::{Geometry, LinkShapes, PerType, ShapeParams, ShapeType, build_link_shapes};
 use crate::urdd::{
     FORMAT_VERSION, GeometryRecord, InputFile, LinkRecord, PREPROCESS, RobotRecord, ShapeFile,
@@ -24,8 +24,10 @@ pub struct PreprocessOptions {
     pub urdf: PathBuf,
     /// The URDD directory to write.
     pub out: PathBuf,
-    /// `package://` resolution.
+    /// `package://` and `model://` resolution.
     pub packages: PackagePaths,
+    /// Build shapes for links without `<collision>` from their `<visual>` (no consumer checks those).
+    pub visual_fallback: bool,
     /// Shape construction parameters.
     pub params: ShapeParams,
     /// Rebuild even when up to date.
@@ -55,9 +57,20 @@ pub struct PreprocessReport {
 
 /// Runs the preprocess stage.
 pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<PreprocessReport> {
-    let robot = load_urdf(&opts.urdf, &opts.packages)?;
-    let inputs = hash_inputs(&robot, &opts.urdf)?;
-    let parameters = serde_json::to_value(&opts.params).unwrap_or_default();
+    // Absolute, so the URDD's record of the URDF and its meshes reads back from any folder.
+    let urdf = std::path::absolute(&opts.urdf).map_err(|e| Error::io(&opts.urdf, e))?;
+    let robot = load_urdf(
+        &urdf,
+        &UrdfOptions {
+            packages: opts.packages.clone(),
+            visual_fallback: opts.visual_fallback,
+        },
+    )?;
+    let inputs = hash_inputs(&robot, &urdf)?;
+    let mut parameters = serde_json::to_value(&opts.params).unwrap_or_default();
+    if let Some(map) = parameters.as_object_mut() {
+        map.insert("visual_fallback".into(), opts.visual_fallback.into());
+    }
     let key = stage_key(&inputs, &parameters);
     let mut urdd = Urdd::open_or_new(&opts.out, &robot.name)?;
     let kinematics = Kinematics::new(&robot);
@@ -68,7 +81,8 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
         return Ok(report(&robot, &opts.out, true, &kinematics, shapes));
     }
 
-    let meshes = geometry::load_meshes(&robot, &opts.urdf)?;
+    let meshes = geometry::load_meshes(&robot, &urdf)?;
+    let notes = geometry::mesh_notes(&robot, &meshes);
     let with_geometry: Vec<usize> = (0..robot.links.len())
         .filter(|&i| !robot.links[i].geometry.is_empty())
         .collect();
@@ -80,7 +94,7 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
             let mesh = geometry::link_mesh(link, &meshes);
             let shapes = build_link_shapes(&mesh, &opts.params).map_err(|e| {
                 Error::input(
-                    &opts.urdf,
+                    &urdf,
                     format!("<link name=\"{}\">", link.name),
                     format!("its geometry is degenerate: {e}"),
                 )
@@ -165,7 +179,8 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
         )?;
     }
     let counts = PerType::from_fn(|t| built.iter().map(|(_, s)| s.shapes[t].len()).sum::<usize>());
-    let out = report(&robot, &opts.out, false, &kinematics, counts);
+    let mut out = report(&robot, &opts.out, false, &kinematics, counts);
+    out.warnings.extend(notes);
     stage.commit()?;
     let summary = serde_json::json!({
         "links": out.links,

@@ -38,6 +38,8 @@ impl Dof {
 
 #[derive(Debug, Clone)]
 struct Step {
+    /// The joint's index in the robot.
+    joint: usize,
     kind: JointKind,
     parent: usize,
     child: usize,
@@ -48,9 +50,9 @@ struct Step {
 }
 
 impl Step {
-    /// The child link's pose in the parent link's frame at configuration `q`.
-    fn transform(&self, q: &[f64]) -> Pose {
-        let value = match self.value {
+    /// The joint's value at configuration `q` (0 for joints that do not move).
+    fn value(&self, q: &[f64]) -> f64 {
+        match self.value {
             Value::Fixed => 0.0,
             Value::Dof(d) => q[d],
             Value::Mimic {
@@ -58,7 +60,12 @@ impl Step {
                 multiplier,
                 offset,
             } => dof.map_or(0.0, |d| q[d]) * multiplier + offset,
-        };
+        }
+    }
+
+    /// The child link's pose in the parent link's frame at configuration `q`.
+    fn transform(&self, q: &[f64]) -> Pose {
+        let value = self.value(q);
         let motion = match self.kind {
             JointKind::Revolute | JointKind::Continuous => {
                 Pose::from_rotation(Rotation::from_axis_angle(self.axis, value))
@@ -134,6 +141,7 @@ impl Kinematics {
                     },
                 };
                 steps.push(Step {
+                    joint: i,
                     kind: j.kind,
                     parent: j.parent,
                     child: j.child,
@@ -197,6 +205,16 @@ impl Kinematics {
                 .fold(Pose::IDENTITY, |pose, &i| pose * self.steps[i].transform(q))
         };
         (pose(&ca[common..]), pose(&cb[common..]))
+    }
+
+    /// Every joint's value at configuration `q`, indexed by joint (mimic joints follow their leader;
+    /// fixed, floating and planar joints read 0).
+    pub fn joint_values(&self, q: &[f64]) -> Vec<f64> {
+        let mut values = vec![0.0; self.steps.len()];
+        for s in &self.steps {
+            values[s.joint] = s.value(q);
+        }
+        values
     }
 
     /// Pose of every link in the root frame at configuration `q`.

@@ -8,7 +8,7 @@ mod urdf;
 
 pub use kinematics::{Configuration, Dof, Kinematics};
 pub use packages::PackagePaths;
-pub use urdf::{load_urdf, parse_urdf, rpy_to_rotation};
+pub use urdf::{UrdfOptions, load_urdf, parse_urdf, rpy_to_rotation};
 
 use crate::math::{Pose, Vec3};
 use serde::{Deserialize, Serialize};

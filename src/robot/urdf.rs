@@ -3,6 +3,10 @@
 //! Only direct `<robot>` children count as links and joints, so `<joint>` inside `<transmission>` or
 //! `<gazebo>` is ignored. `<limit>` needs no `velocity`/`effort`, `<axis>` without `xyz` means 1 0 0, and
 //! `<material>` elements are ignored wherever they are.
+//!
+//! A link's collision geometry is its `<collision>` elements, as MoveIt, Pinocchio, MuJoCo and Drake
+//! read it: a link without one has none, unless [`UrdfOptions::visual_fallback`] asks for its `<visual>`
+//! elements instead. A file that still needs xacro is refused with the command that expands it.
 
 use super::packages::PackagePaths;
 use super::{
@@ -14,30 +18,81 @@ use roxmltree::{Document, Node};
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Reads and validates the URDF at `path`, resolving mesh filenames with `packages`.
-pub fn load_urdf(path: &Path, packages: &PackagePaths) -> Result<Robot> {
+/// How a URDF is read.
+#[derive(Debug, Clone, Default)]
+pub struct UrdfOptions {
+    /// Where `package://` and `model://` point.
+    pub packages: PackagePaths,
+    /// Give a link without `<collision>` its `<visual>` geometry (no consumer does; off by default).
+    pub visual_fallback: bool,
+}
+
+/// Reads and validates the URDF at `path`.
+pub fn load_urdf(path: &Path, options: &UrdfOptions) -> Result<Robot> {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("xacro"))
+    {
+        return Err(xacro_error(path, "file", "is a xacro file"));
+    }
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::input(path, "file", format!("cannot read: {e}")))?;
-    parse_urdf(&text, path, packages)
+    parse_urdf(&text, path, options)
 }
 
 /// Parses URDF `text` read from `path` (used for error messages and relative mesh paths).
-pub fn parse_urdf(text: &str, path: &Path, packages: &PackagePaths) -> Result<Robot> {
+pub fn parse_urdf(text: &str, path: &Path, options: &UrdfOptions) -> Result<Robot> {
     let doc = Document::parse(text).map_err(|e| {
         let pos = e.pos();
-        Error::input(
-            path,
-            format!("line {}, column {}", pos.row, pos.col),
-            format!("malformed XML: {e}"),
-        )
+        let element = format!("line {}, column {}", pos.row, pos.col);
+        match e {
+            roxmltree::Error::UnknownNamespace(prefix, _) if prefix == "xacro" => {
+                xacro_error(path, element, "uses xacro: elements")
+            }
+            e => Error::input(path, element, format!("malformed XML: {e}")),
+        }
     })?;
-    let reader = Reader { doc: &doc, path };
-    reader.robot(packages)
+    if let Some(node) = doc
+        .descendants()
+        .find(|n| n.is_element() && n.tag_name().namespace().is_some_and(is_xacro_ns))
+    {
+        let line = doc.text_pos_at(node.range().start).row;
+        return Err(xacro_error(
+            path,
+            format!("<xacro:{}> (line {line})", node.tag_name().name()),
+            "uses xacro: elements",
+        ));
+    }
+    let reader = Reader {
+        doc: &doc,
+        path,
+        visual_fallback: options.visual_fallback,
+    };
+    reader.robot(&options.packages)
+}
+
+/// Whether a namespace URI is xacro's (`http://www.ros.org/wiki/xacro` and its spellings).
+fn is_xacro_ns(uri: &str) -> bool {
+    uri.trim_end_matches('/').ends_with("/xacro")
+}
+
+/// The one line that says a file needs xacro first, and how.
+fn xacro_error(path: &Path, element: impl Into<String>, what: &str) -> Error {
+    Error::input(
+        path,
+        element,
+        format!(
+            "the file {what}: expand it to plain URDF first, for example `xacro {} > robot.urdf` \
+             (xacro comes with ROS, or `pip install xacro`), then give scm robot.urdf",
+            path.display()
+        ),
+    )
 }
 
 struct Reader<'a, 'input> {
     doc: &'a Document<'input>,
     path: &'a Path,
+    visual_fallback: bool,
 }
 
 impl<'a, 'input> Reader<'a, 'input> {
@@ -241,18 +296,26 @@ impl<'a, 'input> Reader<'a, 'input> {
     ) -> Result<Link> {
         let name = self.required(node, "name")?.to_string();
         let collisions = self.geometry_elements(node, "collision", packages)?;
+        let has_visual = self.children(node, "visual").next().is_some();
         let (geometry, geometry_source) = if !collisions.is_empty() {
             (collisions, GeometryOrigin::Collision)
+        } else if has_visual && self.visual_fallback {
+            warnings.push(format!(
+                "link \"{name}\" has no <collision>; its <visual> geometry is used instead \
+                 (--visual-fallback: no consumer checks it)"
+            ));
+            (
+                self.geometry_elements(node, "visual", packages)?,
+                GeometryOrigin::Visual,
+            )
         } else {
-            let visuals = self.geometry_elements(node, "visual", packages)?;
-            if visuals.is_empty() {
-                (visuals, GeometryOrigin::None)
-            } else {
+            if has_visual {
                 warnings.push(format!(
-                    "link \"{name}\" has no <collision>; its <visual> geometry is used instead"
+                    "link \"{name}\" has no <collision>: no collision shapes, as in MoveIt, \
+                     Pinocchio, MuJoCo and Drake (--visual-fallback builds them from its <visual>)"
                 ));
-                (visuals, GeometryOrigin::Visual)
             }
+            (Vec::new(), GeometryOrigin::None)
         };
         Ok(Link {
             name,

@@ -78,6 +78,7 @@ pub fn preprocessed(urdf: &Path, name: &str) -> PathBuf {
         urdf: urdf.to_path_buf(),
         out: out.clone(),
         packages: scm::robot::PackagePaths::new(),
+        visual_fallback: false,
         params: scm::shapes::ShapeParams::default(),
         force: false,
     };

@@ -40,6 +40,7 @@ fn preprocess_demo(out: &Path) {
         urdf: root.join("robots/demo_arm/demo_arm.urdf"),
         out: out.to_path_buf(),
         packages: scm::robot::PackagePaths::new(),
+        visual_fallback: false,
         params: scm::shapes::ShapeParams::default(),
         force: false,
     };
