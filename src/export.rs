@@ -139,6 +139,8 @@ pub struct ExportReport {
 
 /// Runs the export stage.
 pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportReport> {
+    Urdd::open(&opts.urdd)?;
+    let _lock = Urdd::lock_for_writing(&opts.urdd, progress)?;
     let mut urdd = Urdd::open(&opts.urdd)?;
     let sample_key = urdd.fresh_stage(SAMPLE)?.key.clone();
     let out = opts.out_dir();
@@ -153,6 +155,7 @@ pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportRep
         });
     }
     guard_foreign_folder(&out)?;
+    let rerun = urdd.rerun_note(EXPORT, &key);
 
     let robot = urdd.robot()?;
     let robot_name = robot.robot.name.clone();
@@ -190,7 +193,7 @@ pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportRep
 
     let stage = StageDir::create(&out)?;
     let mut files = Vec::new();
-    let mut notes = Vec::new();
+    let mut notes: Vec<String> = rerun.into_iter().collect();
     let mut write = |name: String, bytes: Vec<u8>| -> Result<()> {
         stage.write(&name, &bytes)?;
         files.push(name);
@@ -273,6 +276,7 @@ pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportRep
                 .cloned()
                 .chain([EXPORT_INDEX.to_string()])
                 .collect(),
+            stamps: Default::default(),
             summary: serde_json::to_value(&report.types).unwrap_or_default(),
             depends_on: [(SAMPLE.to_string(), sample_key)].into(),
         },
@@ -363,6 +367,7 @@ fn stage_key(urdd: &Urdd, opts: &ExportOptions, sample_key: &str) -> Result<Stri
 
 /// Refuses to replace a folder that exists, is not empty and was not written by `scm export`.
 fn guard_foreign_folder(out: &Path) -> Result<()> {
+    crate::urdd::ensure_not_file(out)?;
     let non_empty = std::fs::read_dir(out).is_ok_and(|mut d| d.next().is_some());
     if non_empty && !out.join(EXPORT_INDEX).is_file() {
         return Err(Error::input(

@@ -8,6 +8,8 @@ pub trait Progress: Sync {
     fn advance(&self, n: u64);
     /// The phase is over.
     fn finish(&self);
+    /// A one-line message for the person waiting (for example that another process holds a lock).
+    fn note(&self, _message: &str) {}
 }
 
 /// Progress that goes nowhere (tests, `--quiet`).

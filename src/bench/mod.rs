@@ -134,6 +134,8 @@ fn selected_types(urdd: &Urdd, requested: &[ShapeType]) -> Result<Vec<ShapeType>
 /// Runs the benchmark and writes `DIR/bench/`.
 pub fn bench(opts: &BenchOptions, progress: &dyn Progress) -> Result<BenchReport> {
     let start = std::time::Instant::now();
+    Urdd::open(&opts.urdd)?;
+    let _lock = Urdd::lock_for_writing(&opts.urdd, progress)?;
     let mut urdd = Urdd::open(&opts.urdd)?;
     let types = selected_types(&urdd, &opts.types)?;
     // Load every checker first, so bad input fails before any long work.
@@ -252,6 +254,7 @@ fn write(urdd: &mut Urdd, report: &BenchReport) -> Result<()> {
             parameters,
             folder: BENCH.into(),
             outputs: vec!["bench.md".into(), "bench.json".into()],
+            stamps: Default::default(),
             summary: serde_json::json!({ "types": report.types.len(), "seconds": report.seconds }),
             depends_on: [(SAMPLE.to_string(), sample_key)].into(),
         },

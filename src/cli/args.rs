@@ -232,8 +232,8 @@ pub struct SampleArgs {
 /// Flags of sampling.
 #[derive(Debug, Args)]
 pub struct SamplingArgs {
-    /// Number of random joint configurations.
-    #[arg(long, short = 'n', default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..))]
+    /// Number of random joint configurations (1 to 1e9; memory does not grow with it).
+    #[arg(long, short = 'n', default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..=scm::sample::MAX_SAMPLES))]
     pub samples: u64,
     /// Random seed.
     #[arg(long, default_value_t = 0)]
@@ -241,9 +241,9 @@ pub struct SamplingArgs {
     /// Shape types to sample (comma-separated ids); default all six.
     #[arg(long, value_delimiter = ',', value_parser = parse_shape_type)]
     pub types: Vec<scm::shapes::ShapeType>,
-    /// Worker threads (default: all cores); the result does not depend on it.
-    #[arg(long)]
-    pub threads: Option<usize>,
+    /// Worker threads, 1 to 1024 (default: all cores); the result does not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=scm::sample::MAX_THREADS as i64))]
+    pub threads: Option<u16>,
     /// A pair in collision in at least this fraction of the samples is skipped as `always`.
     #[arg(long, default_value_t = 0.95)]
     pub always_fraction: f64,

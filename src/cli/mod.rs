@@ -1,7 +1,10 @@
 //! The thin command-line layer: parse flags, call one library stage per subcommand, print results.
 
 pub mod args;
+mod output;
 mod progress;
+
+use output::{out, outln};
 
 use args::{
     BenchArgs, Cli, Command, DiffArgs, ExportArgs, ExportFlags, ImportMoveitArgs, InspectArgs,
@@ -102,7 +105,7 @@ fn sample_options(urdd: &Path, s: &SamplingArgs, force: bool) -> Result<SampleOp
         types.dedup();
         opts.types = types;
     }
-    opts.threads = s.threads;
+    opts.threads = s.threads.map(usize::from);
     opts.always_fraction = s.always_fraction;
     opts.mean_samples = if s.mean_samples == 0 {
         scm::sample::EXACT_MEAN
@@ -239,18 +242,23 @@ fn run_import(cli: &Cli, args: &ImportMoveitArgs) -> Result<()> {
         .iter()
         .map(|(r, n)| format!("{} {n}", if r.is_empty() { "(none)" } else { r }))
         .collect();
-    println!(
-        "{}: imported {} link pairs from {} (disabled: {}; enabled {}; default-disabled links {}); {} warnings",
+    let read: usize = report.reasons.values().sum();
+    outln!(
+        "{}: read {read} <disable_collisions> from {} ({}), {} <enable_collisions>, {} \
+         <disable_default_collisions>; stored {} distinct link pairs{}",
         report.urdd.display(),
-        report.stored,
         report.srdf.display(),
         reasons.join(", "),
         report.enabled,
         report.default_disabled,
-        report.warnings.len()
+        report.stored,
+        match report.warnings.len() {
+            0 => String::new(),
+            n => format!(" ({n} warnings: unknown links, links without geometry or repeats)"),
+        }
     );
     if let Some(c) = comparison {
-        print!("{}", format_comparison(&c, &args.urdd));
+        out!("{}", format_comparison(&c, &args.urdd));
     }
     Ok(())
 }
@@ -265,7 +273,7 @@ fn run_diff(cli: &Cli, args: &DiffArgs) -> Result<()> {
     if cli.json {
         print_json(&c);
     } else {
-        print!("{}", format_comparison(&c, &args.urdd));
+        out!("{}", format_comparison(&c, &args.urdd));
     }
     Ok(())
 }
@@ -334,12 +342,12 @@ fn run_inspect(cli: &Cli, args: &InspectArgs) -> Result<()> {
             );
         }
     }
-    print!("{out}");
+    out!("{out}");
     Ok(())
 }
 
 fn print_json<T: serde::Serialize>(value: &T) {
-    println!(
+    outln!(
         "{}",
         serde_json::to_string_pretty(value).unwrap_or_default()
     );
@@ -353,7 +361,7 @@ fn print_preprocess(cli: &Cli, r: &PreprocessReport) {
         eprintln!("note: {w}");
     }
     if r.up_to_date {
-        println!(
+        outln!(
             "{}: preprocess up to date (robot \"{}\"), nothing to do",
             r.urdd.display(),
             r.robot
@@ -361,7 +369,7 @@ fn print_preprocess(cli: &Cli, r: &PreprocessReport) {
         return;
     }
     let counts: Vec<String> = r.shapes.iter().map(|(t, n)| format!("{t} {n}")).collect();
-    println!(
+    outln!(
         "{}: robot \"{}\", {} links ({} with geometry), {} DOFs; shapes: {}",
         r.urdd.display(),
         r.robot,
@@ -377,14 +385,17 @@ fn print_sample(cli: &Cli, r: &SampleReport) {
         return;
     }
     if r.up_to_date {
-        println!("{}: sampling up to date, nothing to do", r.urdd.display());
+        outln!("{}: sampling up to date, nothing to do", r.urdd.display());
         return;
     }
     if let Some(f) = &r.shard_file {
-        println!("{}: wrote {f} in {:.1} s", r.urdd.display(), r.seconds);
+        outln!("{}: wrote {f} in {:.1} s", r.urdd.display(), r.seconds);
         return;
     }
-    println!(
+    for n in &r.notes {
+        eprintln!("note: {n}");
+    }
+    outln!(
         "{}: {} samples in {:.1} s",
         r.urdd.display(),
         r.samples,
@@ -396,7 +407,7 @@ fn print_sample(cli: &Cli, r: &SampleReport) {
             .iter()
             .map(|(reason, n)| format!("{} {n}", reason.id()))
             .collect();
-        println!(
+        outln!(
             "  {:<13} {:>4} shapes: {}; search: {} pairs, {} never overturned",
             t.id(),
             s.shapes,
@@ -439,8 +450,8 @@ fn run_bench(cli: &Cli, args: &BenchArgs) -> Result<()> {
 }
 
 fn print_bench(r: &BenchReport) {
-    print!("{}", scm::bench::render(r));
-    println!(
+    out!("{}", scm::bench::render(r));
+    outln!(
         "\nwrote {}",
         r.urdd.join(scm::bench::BENCH).join("bench.md").display()
     );
@@ -451,13 +462,13 @@ fn print_export(cli: &Cli, r: &ExportReport) {
         return;
     }
     if r.up_to_date {
-        println!("{}: export up to date, nothing to do", r.out.display());
+        outln!("{}: export up to date, nothing to do", r.out.display());
         return;
     }
     for n in &r.notes {
         eprintln!("note: {n}");
     }
-    println!(
+    outln!(
         "{}: {} files; link level: {} of {} link pairs skipped",
         r.out.display(),
         r.files.len(),
@@ -466,7 +477,7 @@ fn print_export(cli: &Cli, r: &ExportReport) {
     );
     for (t, c) in &r.types {
         let layers: Vec<String> = c.layers.iter().map(|(l, n)| format!("{l} {n}")).collect();
-        println!(
+        outln!(
             "  {:<13} {:>4} shapes: {} skipped, {} checked ({})",
             t.id(),
             c.shapes,

@@ -20,8 +20,9 @@ const MAX_DEPTH: usize = 256;
 /// Most nodes one file may place, counting every instance: nodes that instance each other twice over
 /// multiply like XML entities in a "billion laughs" file.
 const MAX_NODES: usize = 1_000_000;
-/// Most triangle corners one file may place, for the same reason.
-const MAX_CORNERS: usize = 50_000_000;
+/// Most triangle corners one file may place, for the same reason (240 MB of vertices; robot meshes
+/// hold well under a million).
+const MAX_CORNERS: usize = 10_000_000;
 
 /// A COLLADA file's triangles in the file's own units, and notes on what was ignored.
 pub struct Collada {
@@ -348,9 +349,9 @@ impl<'a, 'input> Reader<'a, 'input> {
                         Some(p) => tuples(p)?,
                         None => Vec::new(),
                     };
-                    let mut at = 0;
+                    let mut at: usize = 0;
                     for n in counts {
-                        let end = at + n;
+                        let end = at.saturating_add(n);
                         if end > all.len() {
                             return Err(format!(
                                 "{}: <vcount> asks for more vertices than <p> holds",
@@ -479,7 +480,17 @@ impl<'a, 'input> Reader<'a, 'input> {
         let stride = attr("stride", 3)?.max(1);
         let offset = attr("offset", 0)?;
         let count = attr("count", values.len().saturating_sub(offset) / stride)?;
-        if stride < 3 || offset + count.saturating_sub(1) * stride + 3 > values.len() && count > 0 {
+        // The last point read ends at offset + (count - 1) * stride + 3, which must lie in the array
+        // (checked arithmetic: a hand-broken count must not wrap round and pass).
+        let end = count
+            .checked_sub(1)
+            .map(|last| {
+                last.checked_mul(stride)
+                    .and_then(|x| x.checked_add(offset))
+                    .and_then(|x| x.checked_add(3))
+            })
+            .unwrap_or(Some(0));
+        if stride < 3 || end.is_none_or(|end| end > values.len()) {
             return Err(format!(
                 "{}: the accessor reads past the {} numbers of its array",
                 self.describe(source),

@@ -23,17 +23,22 @@ pub fn load_mesh_file(path: &Path) -> Result<MeshFile, String> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
         .unwrap_or_default();
+    read_mesh(&bytes, ext)
+}
+
+/// Reads the triangles of a mesh file's `bytes`; `ext` (`stl`, `obj`, `dae`, any case) names the format.
+pub fn read_mesh(bytes: &[u8], ext: &str) -> Result<MeshFile, String> {
+    let ext = ext.to_ascii_lowercase();
     let mut notes = Vec::new();
     let mut mesh = match ext.as_str() {
-        "stl" => read_stl(&bytes, &mut notes)?,
+        "stl" => read_stl(bytes, &mut notes)?,
         "dae" => {
-            let c = read_collada(&bytes)?;
+            let c = read_collada(bytes)?;
             notes = c.notes;
             c.mesh
         }
-        "obj" => read_obj(&bytes)?,
+        "obj" => read_obj(bytes)?,
         other => {
             return Err(format!(
                 "unsupported mesh format \".{other}\" (use STL, OBJ or DAE)"
@@ -42,6 +47,12 @@ pub fn load_mesh_file(path: &Path) -> Result<MeshFile, String> {
     };
     if mesh.vertices.iter().any(|v| !crate::math::is_finite(*v)) {
         return Err("vertex with a NaN or infinite coordinate".into());
+    }
+    let limit = crate::robot::MAX_MAGNITUDE;
+    if let Some(v) = mesh.vertices.iter().find(|v| v.abs().max_element() > limit) {
+        return Err(format!(
+            "vertex {v:?} lies beyond ±{limit:e} (file units; scm cannot compute with it)"
+        ));
     }
     mesh.compact();
     if mesh.triangles.is_empty() {

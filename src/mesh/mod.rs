@@ -6,7 +6,7 @@ mod obj;
 mod primitive;
 mod stl;
 
-pub use load::{MeshFile, load_mesh_file};
+pub use load::{MeshFile, load_mesh_file, read_mesh};
 pub use primitive::{primitive_bounds, tessellate};
 
 use crate::math::{Pose, Vec3};

@@ -72,6 +72,8 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
         map.insert("visual_fallback".into(), opts.visual_fallback.into());
     }
     let key = stage_key(&inputs, &parameters);
+    crate::urdd::ensure_not_file(&opts.out)?;
+    let _lock = Urdd::lock_for_writing(&opts.out, progress)?;
     let mut urdd = Urdd::open_or_new(&opts.out, &robot.name)?;
     let kinematics = Kinematics::new(&robot);
 
@@ -81,6 +83,7 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
         return Ok(report(&robot, &opts.out, true, &kinematics, shapes));
     }
 
+    let rerun = urdd.rerun_note(PREPROCESS, &key);
     let meshes = geometry::load_meshes(&robot, &urdf)?;
     let notes = geometry::mesh_notes(&robot, &meshes);
     let with_geometry: Vec<usize> = (0..robot.links.len())
@@ -180,7 +183,7 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
     }
     let counts = PerType::from_fn(|t| built.iter().map(|(_, s)| s.shapes[t].len()).sum::<usize>());
     let mut out = report(&robot, &opts.out, false, &kinematics, counts);
-    out.warnings.extend(notes);
+    out.warnings.extend(rerun.into_iter().chain(notes));
     stage.commit()?;
     let summary = serde_json::json!({
         "links": out.links,
@@ -198,6 +201,7 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
             parameters,
             folder: PREPROCESS.into(),
             outputs,
+            stamps: Default::default(),
             summary,
             depends_on: Default::default(),
         },

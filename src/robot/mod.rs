@@ -8,7 +8,7 @@ mod urdf;
 
 pub use kinematics::{Configuration, Dof, Kinematics};
 pub use packages::PackagePaths;
-pub use urdf::{UrdfOptions, load_urdf, parse_urdf, rpy_to_rotation};
+pub use urdf::{MAX_MAGNITUDE, UrdfOptions, load_urdf, parse_urdf, rpy_to_rotation};
 
 use crate::math::{Pose, Vec3};
 use serde::{Deserialize, Serialize};
@@ -183,6 +183,59 @@ impl Robot {
     /// Index of the joint with this name.
     pub fn joint_index(&self, name: &str) -> Option<usize> {
         self.joints.iter().position(|j| j.name == name)
+    }
+
+    /// Checks that the links and joints form one tree rooted at `root` with every index in range, as
+    /// the URDF reader guarantees; for records read back from disk. The error says what is wrong.
+    pub fn check_tree(&self) -> std::result::Result<(), String> {
+        let (links, joints) = (self.links.len(), self.joints.len());
+        if self.root >= links {
+            return Err(format!("root link {} of {links} does not exist", self.root));
+        }
+        for (i, j) in self.joints.iter().enumerate() {
+            if j.parent >= links || j.child >= links || j.parent == j.child {
+                return Err(format!("joint \"{}\" names links out of range", j.name));
+            }
+            if self.links[j.child].parent_joint != Some(i) {
+                return Err(format!(
+                    "joint \"{}\" is not its child link's parent joint",
+                    j.name
+                ));
+            }
+            if j.mimic
+                .is_some_and(|m| m.joint >= joints || self.joints[m.joint].mimic.is_some())
+            {
+                return Err(format!("joint \"{}\" mimics a joint out of range", j.name));
+            }
+        }
+        for (i, link) in self.links.iter().enumerate() {
+            match link.parent_joint {
+                None if i != self.root => {
+                    return Err(format!(
+                        "link \"{}\" has no parent but is not the root",
+                        link.name
+                    ));
+                }
+                Some(j) if j >= joints || self.joints[j].child != i => {
+                    return Err(format!("link \"{}\" names a wrong parent joint", link.name));
+                }
+                _ => {}
+            }
+            let mut at = i;
+            for _ in 0..=joints {
+                match self.links[at].parent_joint {
+                    Some(j) => at = self.joints[j].parent,
+                    None => break,
+                }
+            }
+            if at != self.root {
+                return Err(format!(
+                    "link \"{}\" does not hang from the root (a cycle)",
+                    link.name
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Pairs of links (index order, `a < b`) that a collision check treats as adjacent: joined by a joint,

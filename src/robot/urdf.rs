@@ -89,6 +89,10 @@ fn xacro_error(path: &Path, element: impl Into<String>, what: &str) -> Error {
     )
 }
 
+/// The largest magnitude any URDF number may have (metres, radians, scale factors): a bound far past
+/// any robot, under which every distance and its square stay exact enough in f64.
+pub const MAX_MAGNITUDE: f64 = 1e6;
+
 struct Reader<'a, 'input> {
     doc: &'a Document<'input>,
     path: &'a Path,
@@ -143,10 +147,18 @@ impl<'a, 'input> Reader<'a, 'input> {
                 format!("attribute `{attr}`: `{text}` is not a number"),
             )
         })?;
-        if v.is_finite() {
-            Ok(v)
-        } else {
+        if !v.is_finite() {
             Err(self.err(node, format!("attribute `{attr}`: `{text}` is not finite")))
+        } else if v.abs() > MAX_MAGNITUDE {
+            Err(self.err(
+                node,
+                format!(
+                    "attribute `{attr}`: `{text}` is beyond ±{MAX_MAGNITUDE:e} (no robot measures \
+                     that in metres or radians; scm cannot compute with it)"
+                ),
+            ))
+        } else {
+            Ok(v)
         }
     }
 

@@ -129,6 +129,9 @@ pub struct SampleReport {
     pub types: BTreeMap<ShapeType, TypeSummary>,
     /// Seconds spent sampling (not counting loading and writing).
     pub seconds: f64,
+    /// Why the stage reran although its key was unchanged (an output file changed or went missing).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
 }
 
 /// A shard's partial result: exact accumulators of its chunks.
@@ -149,10 +152,33 @@ pub fn sample_file_name(t: ShapeType) -> String {
 /// the 0.1 mm the extremes may carry.
 pub const DEFAULT_TOLERANCE: f64 = 9e-5;
 
+/// The most samples one run takes: memory stays flat in the count, time does not (about a day for
+/// b1 on two cores).
+pub const MAX_SAMPLES: u64 = 1_000_000_000;
+/// The most worker threads one run starts.
+pub const MAX_THREADS: usize = 1024;
+
 /// Runs the sample stage (or one shard of it).
 pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleReport> {
+    let bad = |flag: &str, message: String| Error::input(Path::new("options"), flag, message);
+    if !(1..=MAX_SAMPLES).contains(&opts.samples) {
+        return Err(bad(
+            "samples",
+            format!("{} is outside 1..={MAX_SAMPLES}", opts.samples),
+        ));
+    }
+    if let Some(t) = opts.threads.filter(|t| !(1..=MAX_THREADS).contains(t)) {
+        return Err(bad("threads", format!("{t} is outside 1..={MAX_THREADS}")));
+    }
+    // Shards only write their own file, so a scheduler can run them side by side.
+    Urdd::open(&opts.urdd)?;
+    let _lock = match opts.shard {
+        None => Some(Urdd::lock_for_writing(&opts.urdd, progress)?),
+        Some(_) => None,
+    };
     let mut urdd = Urdd::open(&opts.urdd)?;
     let key = stage_key(&urdd, opts)?;
+    let notes: Vec<String> = urdd.rerun_note(SAMPLE, &key).into_iter().collect();
     let report = |up_to_date, shard_file, types, seconds| SampleReport {
         urdd: opts.urdd.clone(),
         up_to_date,
@@ -160,6 +186,7 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
         samples: opts.samples,
         types,
         seconds,
+        notes: Vec::new(),
     };
     if opts.shard.is_none() && !opts.force && urdd.is_up_to_date(SAMPLE, &key) {
         let types = serde_json::from_value(urdd.stage(SAMPLE)?.summary.clone()).unwrap_or_default();
@@ -202,15 +229,18 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
     let files = pool.install(|| finalize::finalize(&engine, opts, acc));
     let seconds = started.elapsed().as_secs_f64();
     write_stage(&mut urdd, opts, key, &files)?;
-    Ok(report(
-        false,
-        None,
-        files
-            .iter()
-            .map(|f| (f.shape_type, f.summary.clone()))
-            .collect(),
-        seconds,
-    ))
+    Ok(SampleReport {
+        notes,
+        ..report(
+            false,
+            None,
+            files
+                .iter()
+                .map(|f| (f.shape_type, f.summary.clone()))
+                .collect(),
+            seconds,
+        )
+    })
 }
 
 /// Merges the `count` shard files in the URDD into the sample stage output (identical to one run).
@@ -219,6 +249,8 @@ pub fn merge_shards(
     count: u32,
     progress: &dyn Progress,
 ) -> Result<SampleReport> {
+    Urdd::open(&opts.urdd)?;
+    let _lock = Urdd::lock_for_writing(&opts.urdd, progress)?;
     let mut urdd = Urdd::open(&opts.urdd)?;
     let key = stage_key(&urdd, opts)?;
     let engine = Engine::load(&urdd, &opts.types)?;
@@ -278,6 +310,7 @@ pub fn merge_shards(
             .map(|f| (f.shape_type, f.summary.clone()))
             .collect(),
         seconds: started.elapsed().as_secs_f64(),
+        notes: Vec::new(),
     })
 }
 
@@ -334,6 +367,7 @@ fn write_stage(
             parameters: parameters(opts),
             folder: SAMPLE.into(),
             outputs,
+            stamps: Default::default(),
             summary: serde_json::to_value(summary).unwrap_or_default(),
             depends_on: [(PREPROCESS.to_string(), preprocess_key)].into(),
         },

@@ -36,12 +36,25 @@ pub struct StageRecord {
     pub folder: String,
     /// Files written, relative to `folder`.
     pub outputs: Vec<String>,
+    /// Each output's size and hash as written, so a truncated, emptied or edited output is not taken
+    /// for up to date (filled in by `Urdd::record_stage`).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub stamps: BTreeMap<String, Stamp>,
     /// A small stage-specific summary (counts), for humans and scripts.
     pub summary: serde_json::Value,
     /// The keys of the stages this one read, as they were when it ran; a different key now means this
     /// stage's output is stale.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub depends_on: BTreeMap<String, String>,
+}
+
+/// An output file's size and content hash.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Stamp {
+    /// Size in bytes.
+    pub bytes: u64,
+    /// Hex SHA-256 of the content.
+    pub sha256: String,
 }
 
 /// An input file and its content hash.

@@ -13,13 +13,14 @@ mod obj;
 mod records;
 mod write;
 
-pub use manifest::{FORMAT_VERSION, InputFile, Manifest, StageRecord, sha256_hex};
+pub use manifest::{FORMAT_VERSION, InputFile, Manifest, StageRecord, Stamp, sha256_hex};
 pub use obj::{from_obj, to_obj};
 pub use records::{GeometryRecord, LinkRecord, RobotRecord, ShapeFile, ShapeRecord};
-pub use write::{StageDir, json_bytes, write_atomic};
+pub use write::{StageDir, WriterLock, ensure_not_file, json_bytes, recover, write_atomic};
 
 use crate::error::{Error, Result};
 use crate::shapes::{Geometry, Obb, ShapeType, Sphere};
+use rayon::prelude::*;
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
 
@@ -64,15 +65,36 @@ impl Urdd {
                 ),
             ));
         }
+        // A stage folder a killed commit left set aside comes back before anything reads it.
+        for record in manifest.stages.values() {
+            recover(&dir.join(&record.folder))?;
+        }
         Ok(Urdd {
             dir: dir.to_path_buf(),
             manifest,
         })
     }
 
+    /// Takes the writer lock of the URDD at `dir` for a stage that writes it (the folder is created if
+    /// needed); while another process holds it, `progress` shows that this one waits.
+    pub fn lock_for_writing(
+        dir: &Path,
+        progress: &dyn crate::progress::Progress,
+    ) -> Result<WriterLock> {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        WriterLock::take(dir, || {
+            progress.note(&format!(
+                "waiting: another scm is writing {} (it holds {})",
+                dir.display(),
+                dir.join(".lock").display()
+            ))
+        })
+    }
+
     /// Opens `dir` if it holds a readable manifest, else starts a fresh one for `robot` (nothing is
     /// written until a stage is recorded). A manifest that exists but is broken is an error.
     pub fn open_or_new(dir: &Path, robot: &str) -> Result<Urdd> {
+        write::ensure_not_file(dir)?;
         if dir.join(MANIFEST).exists() {
             Urdd::open(dir)
         } else {
@@ -125,16 +147,71 @@ impl Urdd {
 
     /// Whether stage `name` ran with `key` and all its output files are present.
     pub fn is_up_to_date(&self, name: &str, key: &str) -> bool {
-        self.manifest.stages.get(name).is_some_and(|s| {
-            s.key == key
-                && s.outputs
-                    .iter()
-                    .all(|o| self.dir.join(&s.folder).join(o).is_file())
-        })
+        self.manifest
+            .stages
+            .get(name)
+            .is_some_and(|s| s.key == key && self.output_changes(name).is_empty())
+    }
+
+    /// How the outputs of stage `name` differ from what it wrote (missing, another size, other
+    /// content), one sentence each; empty when they are intact or the stage never ran.
+    pub fn output_changes(&self, name: &str) -> Vec<String> {
+        let Some(record) = self.manifest.stages.get(name) else {
+            return Vec::new();
+        };
+        let folder = self.dir.join(&record.folder);
+        record
+            .outputs
+            .iter()
+            .filter_map(|o| {
+                let path = folder.join(o);
+                let shown = Path::new(&record.folder).join(o);
+                let shown = shown.display();
+                let Some(meta) = std::fs::metadata(&path).ok().filter(|m| m.is_file()) else {
+                    return Some(format!("{shown} is missing"));
+                };
+                let stamp = record.stamps.get(o)?;
+                if meta.len() != stamp.bytes {
+                    return Some(format!(
+                        "{shown} has {} bytes, {} were written",
+                        meta.len(),
+                        stamp.bytes
+                    ));
+                }
+                let bytes = std::fs::read(&path).ok()?;
+                (sha256_hex(&bytes) != stamp.sha256)
+                    .then(|| format!("{shown} changed since it was written"))
+            })
+            .collect()
+    }
+
+    /// The note a stage gives when its key is unchanged but its outputs are not: which files, and that
+    /// it reruns.
+    pub fn rerun_note(&self, name: &str, key: &str) -> Option<String> {
+        let record = self.manifest.stages.get(name)?;
+        let changes = self.output_changes(name);
+        (record.key == key && !changes.is_empty())
+            .then(|| format!("rerunning {name}: {}", changes.join("; ")))
     }
 
     /// Records a finished stage and writes the manifest atomically.
-    pub fn record_stage(&mut self, name: &str, robot: &str, record: StageRecord) -> Result<()> {
+    pub fn record_stage(&mut self, name: &str, robot: &str, mut record: StageRecord) -> Result<()> {
+        let folder = self.dir.join(&record.folder);
+        record.stamps = record
+            .outputs
+            .par_iter()
+            .map(|o| {
+                let path = folder.join(o);
+                let bytes = std::fs::read(&path).map_err(|e| Error::io(&path, e))?;
+                Ok((
+                    o.clone(),
+                    Stamp {
+                        bytes: bytes.len() as u64,
+                        sha256: sha256_hex(&bytes),
+                    },
+                ))
+            })
+            .collect::<Result<_>>()?;
         self.manifest.robot = robot.to_string();
         self.manifest.format_version = FORMAT_VERSION;
         self.manifest.tool_version = crate::VERSION.to_string();
@@ -150,7 +227,13 @@ impl Urdd {
 
     /// The robot model written by preprocessing.
     pub fn robot(&self) -> Result<RobotRecord> {
-        self.read_json(PREPROCESS, "robot.json")
+        let record: RobotRecord = self.read_json(PREPROCESS, "robot.json")?;
+        // A hand-broken record must not send forward kinematics round a cycle or out of bounds.
+        let folder = &self.stage(PREPROCESS)?.folder;
+        record.robot.check_tree().map_err(|message| {
+            Error::input(&self.dir.join(folder).join("robot.json"), "robot", message)
+        })?;
+        Ok(record)
     }
 
     /// The per-link fit records written by preprocessing.

@@ -19,6 +19,19 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     })
 }
 
+/// A path a stage makes a folder of must not be an existing file: that is bad input (exit 2), and the
+/// file is left as it is.
+pub fn ensure_not_file(path: &Path) -> Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_dir() => Err(Error::input(
+            path,
+            "output",
+            "is an existing file, not a folder; give a folder path (the file is left untouched)",
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Serialises `value` as pretty JSON with a final newline.
 pub fn json_bytes<T: serde::Serialize>(value: &T) -> Vec<u8> {
     // Serialising our own plain data types to JSON cannot fail (no maps with non-string keys).
@@ -37,14 +50,11 @@ pub struct StageDir {
 }
 
 impl StageDir {
-    /// Starts a new output for the folder `target`.
+    /// Starts a new output for the folder `target`, first clearing what killed runs left beside it.
     pub fn create(target: &Path) -> Result<StageDir> {
-        let parent = target.parent().unwrap_or(Path::new("."));
-        let name = target
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
+        ensure_not_file(target)?;
+        recover(target)?;
+        let tmp = sibling(target, "tmp", std::process::id());
         if tmp.exists() {
             std::fs::remove_dir_all(&tmp).map_err(|e| Error::io(&tmp, e))?;
         }
@@ -65,18 +75,105 @@ impl StageDir {
         std::fs::write(&path, bytes).map_err(|e| Error::io(&path, e))
     }
 
-    /// Replaces the old folder with the new one.
+    /// Replaces the old folder with the new one: the old one is renamed aside (a name of this process's
+    /// own), the new one renamed in, the old one removed. A kill between the two renames leaves the
+    /// target missing and the old folder beside it; [`recover`] puts it back on the next run or read.
     pub fn commit(mut self) -> Result<()> {
-        let old = self.tmp.with_extension("old");
+        let old = sibling(&self.target, "old", std::process::id());
         if self.target.exists() {
             std::fs::rename(&self.target, &old).map_err(|e| Error::io(&self.target, e))?;
         }
-        std::fs::rename(&self.tmp, &self.target).map_err(|e| Error::io(&self.target, e))?;
+        if let Err(e) = std::fs::rename(&self.tmp, &self.target) {
+            let _ = std::fs::rename(&old, &self.target);
+            return Err(Error::io(&self.target, e));
+        }
         self.committed = true;
         if old.exists() {
             std::fs::remove_dir_all(&old).map_err(|e| Error::io(&old, e))?;
         }
         Ok(())
+    }
+}
+
+/// `.NAME.KIND-PID` beside `target`: a stage folder under construction (`tmp`) or set aside (`old`).
+fn sibling(target: &Path, kind: &str, pid: u32) -> PathBuf {
+    let parent = target.parent().unwrap_or(Path::new("."));
+    let name = target
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    parent.join(format!(".{name}.{kind}-{pid}"))
+}
+
+/// Whether process `pid` still runs (on Linux, by /proc; elsewhere every process is taken to run, so
+/// nothing of another process is ever removed).
+fn alive(pid: u32) -> bool {
+    pid == std::process::id()
+        || !Path::new("/proc/self").exists()
+        || Path::new("/proc").join(pid.to_string()).exists()
+}
+
+/// Repairs what killed runs left beside the stage folder `target`: a folder set aside by a commit that
+/// never finished comes back when the target is missing (it is the output the manifest describes: the
+/// manifest is written after the commit) and is removed otherwise; half-built folders are removed.
+/// Folders of processes that still run are left alone.
+pub fn recover(target: &Path) -> Result<()> {
+    let parent = target.parent().unwrap_or(Path::new("."));
+    let Some(name) = target.file_name().map(|n| n.to_string_lossy().into_owned()) else {
+        return Ok(());
+    };
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return Ok(());
+    };
+    let mut leftovers: Vec<(String, u32, PathBuf)> = entries
+        .filter_map(|e| e.ok())
+        .filter_map(|e| {
+            let file = e.file_name().to_string_lossy().into_owned();
+            let rest = file.strip_prefix(&format!(".{name}."))?;
+            let (kind, pid) = rest.split_once('-')?;
+            let pid: u32 = pid.parse().ok()?;
+            (matches!(kind, "tmp" | "old") && !alive(pid))
+                .then(|| (kind.to_string(), pid, e.path()))
+        })
+        .collect();
+    leftovers.sort();
+    for (kind, _, path) in leftovers {
+        if kind == "old" && !target.exists() {
+            std::fs::rename(&path, target).map_err(|e| Error::io(target, e))?;
+        } else {
+            std::fs::remove_dir_all(&path).map_err(|e| Error::io(&path, e))?;
+        }
+    }
+    Ok(())
+}
+
+/// The URDD's writer lock (`DIR/.lock`), held until dropped: two processes writing one URDD take
+/// turns, so neither overwrites the other's manifest or folder.
+#[derive(Debug)]
+pub struct WriterLock {
+    _file: std::fs::File,
+}
+
+impl WriterLock {
+    /// Takes the lock of the URDD folder `dir`, which must exist; `waiting` is called once if another
+    /// process holds it, before this one blocks until it is free.
+    pub fn take(dir: &Path, waiting: impl FnOnce()) -> Result<WriterLock> {
+        let path = dir.join(".lock");
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .map_err(|e| Error::io(&path, e))?;
+        match file.try_lock() {
+            Ok(()) => {}
+            Err(std::fs::TryLockError::WouldBlock) => {
+                waiting();
+                file.lock().map_err(|e| Error::io(&path, e))?;
+            }
+            Err(std::fs::TryLockError::Error(e)) => return Err(Error::io(&path, e)),
+        }
+        Ok(WriterLock { _file: file })
     }
 }
 
