@@ -125,33 +125,47 @@ fn a_commit_killed_between_its_renames_is_recovered_on_the_next_read() {
 
 #[test]
 fn a_second_writer_waits_for_the_first_and_says_so() {
+    use std::io::BufRead;
     let dir = demo_copy("lock");
     let lock = scm::urdd::WriterLock::take(&dir, || panic!("nobody else holds it")).unwrap();
-    let child = Command::new(env!("CARGO_BIN_EXE_scm"))
+    let stamp = || {
+        std::fs::metadata(dir.join("export/export.json"))
+            .unwrap()
+            .modified()
+            .unwrap()
+    };
+    let before = stamp();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_scm"))
         .args(["export", s(&dir), "--force"])
-        .stdout(Stdio::piped())
+        .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(1500));
-    // Still waiting: nothing was rewritten yet.
-    let stamp = std::fs::metadata(dir.join("export/export.json"))
-        .unwrap()
-        .modified()
-        .unwrap();
+    // Read the child's stderr until it says it waits (a minute at most on a loaded machine).
+    let (tx, rx) = std::sync::mpsc::channel();
+    let stderr = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        for line in std::io::BufReader::new(stderr)
+            .lines()
+            .map_while(Result::ok)
+        {
+            let _ = tx.send(line);
+        }
+    });
+    let said = rx
+        .recv_timeout(std::time::Duration::from_secs(60))
+        .expect("the second writer said nothing");
+    assert!(said.contains("waiting: another scm is writing"), "{said}");
+    // While it waits, nothing is rewritten.
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert_eq!(stamp(), before);
     drop(lock);
-    let out = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
+    assert!(child.wait().unwrap().success());
+    reader.join().unwrap();
     assert!(
-        stderr.contains("waiting: another scm is writing"),
-        "{stderr}"
+        stamp() > before,
+        "the export ran after the lock was released"
     );
-    let after = std::fs::metadata(dir.join("export/export.json"))
-        .unwrap()
-        .modified()
-        .unwrap();
-    assert!(after > stamp, "the export ran after the lock was released");
 }
 
 #[test]
