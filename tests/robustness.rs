@@ -302,3 +302,20 @@ fn a_robot_record_whose_joints_form_a_cycle_is_an_error_naming_the_file() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("robot.json") && err.contains("cycle"), "{err}");
 }
+
+#[test]
+fn a_hand_broken_stage_summary_is_an_error_not_empty_counts() {
+    let dir = demo_copy("summary");
+    let path = dir.join("manifest.json");
+    let mut manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    manifest["stages"]["sample"]["summary"] = serde_json::json!("garbage");
+    std::fs::write(&path, serde_json::to_vec(&manifest).unwrap()).unwrap();
+    let o = common::scm_str(&["sample", s(&dir), "-n", "500"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("manifest.json") && err.contains("stages.sample.summary"),
+        "{err}"
+    );
+}

@@ -78,8 +78,7 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
     let kinematics = Kinematics::new(&robot);
 
     if !opts.force && urdd.is_up_to_date(PREPROCESS, &key) {
-        let summary = &urdd.stage(PREPROCESS)?.summary;
-        let shapes = serde_json::from_value(summary["shapes"].clone()).unwrap_or_default();
+        let shapes = urdd.stage_summary(PREPROCESS, Some("shapes"))?;
         return Ok(report(&robot, &opts.out, true, &kinematics, shapes));
     }
 

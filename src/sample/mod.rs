@@ -189,7 +189,7 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
         notes: Vec::new(),
     };
     if opts.shard.is_none() && !opts.force && urdd.is_up_to_date(SAMPLE, &key) {
-        let types = serde_json::from_value(urdd.stage(SAMPLE)?.summary.clone()).unwrap_or_default();
+        let types = urdd.stage_summary(SAMPLE, None)?;
         return Ok(report(true, None, types, 0.0));
     }
     let engine = Engine::load(&urdd, &opts.types)?;

@@ -219,6 +219,23 @@ impl Urdd {
         write_atomic(&self.dir.join(MANIFEST), &json_bytes(&self.manifest))
     }
 
+    /// The summary a stage recorded (`field` of it, or the whole), read as `T`; a hand-broken manifest
+    /// is an error naming it, not empty counts.
+    pub fn stage_summary<T: DeserializeOwned>(&self, name: &str, field: Option<&str>) -> Result<T> {
+        let summary = &self.stage(name)?.summary;
+        let value = match field {
+            Some(f) => summary.get(f).cloned().unwrap_or_default(),
+            None => summary.clone(),
+        };
+        serde_json::from_value(value).map_err(|e| {
+            Error::input(
+                &self.dir.join(MANIFEST),
+                format!("stages.{name}.summary"),
+                format!("cannot read: {e}"),
+            )
+        })
+    }
+
     /// Reads a JSON file of a stage folder.
     pub fn read_json<T: DeserializeOwned>(&self, stage: &str, relative: &str) -> Result<T> {
         let folder = &self.stage(stage)?.folder;
