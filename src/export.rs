@@ -139,9 +139,7 @@ pub struct ExportReport {
 
 /// Runs the export stage.
 pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportReport> {
-    Urdd::open(&opts.urdd)?;
-    let _lock = Urdd::lock_for_writing(&opts.urdd, progress)?;
-    let mut urdd = Urdd::open(&opts.urdd)?;
+    let (mut urdd, _lock) = Urdd::open_for_writing(&opts.urdd, progress)?;
     let sample_key = urdd.fresh_stage(SAMPLE)?.key.clone();
     let out = opts.out_dir();
     let key = stage_key(&urdd, opts, &sample_key)?;

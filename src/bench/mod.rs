@@ -134,9 +134,7 @@ fn selected_types(urdd: &Urdd, requested: &[ShapeType]) -> Result<Vec<ShapeType>
 /// Runs the benchmark and writes `DIR/bench/`.
 pub fn bench(opts: &BenchOptions, progress: &dyn Progress) -> Result<BenchReport> {
     let start = std::time::Instant::now();
-    Urdd::open(&opts.urdd)?;
-    let _lock = Urdd::lock_for_writing(&opts.urdd, progress)?;
-    let mut urdd = Urdd::open(&opts.urdd)?;
+    let (mut urdd, _lock) = Urdd::open_for_writing(&opts.urdd, progress)?;
     let types = selected_types(&urdd, &opts.types)?;
     // Load every checker first, so bad input fails before any long work.
     let mut checkers = Vec::new();

@@ -72,7 +72,6 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
         map.insert("visual_fallback".into(), opts.visual_fallback.into());
     }
     let key = stage_key(&inputs, &parameters);
-    crate::urdd::ensure_not_file(&opts.out)?;
     let _lock = Urdd::lock_for_writing(&opts.out, progress)?;
     let mut urdd = Urdd::open_or_new(&opts.out, &robot.name)?;
     let kinematics = Kinematics::new(&robot);

@@ -171,12 +171,13 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
         return Err(bad("threads", format!("{t} is outside 1..={MAX_THREADS}")));
     }
     // Shards only write their own file, so a scheduler can run them side by side.
-    Urdd::open(&opts.urdd)?;
-    let _lock = match opts.shard {
-        None => Some(Urdd::lock_for_writing(&opts.urdd, progress)?),
-        Some(_) => None,
+    let (mut urdd, _lock) = match opts.shard {
+        None => {
+            let (urdd, lock) = Urdd::open_for_writing(&opts.urdd, progress)?;
+            (urdd, Some(lock))
+        }
+        Some(_) => (Urdd::open(&opts.urdd)?, None),
     };
-    let mut urdd = Urdd::open(&opts.urdd)?;
     let key = stage_key(&urdd, opts)?;
     let notes: Vec<String> = urdd.rerun_note(SAMPLE, &key).into_iter().collect();
     let report = |up_to_date, shard_file, types, seconds| SampleReport {
@@ -249,9 +250,7 @@ pub fn merge_shards(
     count: u32,
     progress: &dyn Progress,
 ) -> Result<SampleReport> {
-    Urdd::open(&opts.urdd)?;
-    let _lock = Urdd::lock_for_writing(&opts.urdd, progress)?;
-    let mut urdd = Urdd::open(&opts.urdd)?;
+    let (mut urdd, _lock) = Urdd::open_for_writing(&opts.urdd, progress)?;
     let key = stage_key(&urdd, opts)?;
     let engine = Engine::load(&urdd, &opts.types)?;
     let mut acc: Vec<Vec<PairStats>> = engine

@@ -76,11 +76,13 @@ impl Urdd {
     }
 
     /// Takes the writer lock of the URDD at `dir` for a stage that writes it (the folder is created if
-    /// needed); while another process holds it, `progress` shows that this one waits.
+    /// needed; an existing file there is bad input); while another process holds it, `progress` shows
+    /// that this one waits.
     pub fn lock_for_writing(
         dir: &Path,
         progress: &dyn crate::progress::Progress,
     ) -> Result<WriterLock> {
+        write::ensure_not_file(dir)?;
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         WriterLock::take(dir, || {
             progress.note(&format!(
@@ -91,10 +93,20 @@ impl Urdd {
         })
     }
 
+    /// Opens an existing URDD for a stage that writes it: checked first (so a missing URDD is bad input,
+    /// not a new empty folder), then locked, then read under the lock.
+    pub fn open_for_writing(
+        dir: &Path,
+        progress: &dyn crate::progress::Progress,
+    ) -> Result<(Urdd, WriterLock)> {
+        Urdd::open(dir)?;
+        let lock = Urdd::lock_for_writing(dir, progress)?;
+        Ok((Urdd::open(dir)?, lock))
+    }
+
     /// Opens `dir` if it holds a readable manifest, else starts a fresh one for `robot` (nothing is
     /// written until a stage is recorded). A manifest that exists but is broken is an error.
     pub fn open_or_new(dir: &Path, robot: &str) -> Result<Urdd> {
-        write::ensure_not_file(dir)?;
         if dir.join(MANIFEST).exists() {
             Urdd::open(dir)
         } else {
