@@ -3,9 +3,9 @@
 
 use crate::error::{Error, Result};
 use crate::formats::{curobo, drake, matrices::MatrixFile, mjcf, paper, srdf};
-use crate::matrix::{IMPORTED_FILE, LAYERS, SkipMatrix, USER_FILE};
+use crate::matrix::{IMPORTED_FILE, LAYERS, LinkPair, SkipMatrix, USER_FILE, consumer_link_pairs};
 use crate::progress::Progress;
-use crate::sample::SAMPLE;
+use crate::sample::{NeverEvidence, SAMPLE, load_mesh_file};
 use crate::shapes::ShapeType;
 use crate::urdd::{StageDir, StageRecord, Urdd, json_bytes, sha256_hex};
 use serde::{Deserialize, Serialize};
@@ -64,6 +64,48 @@ impl Format {
     }
 }
 
+/// The geometry the link-level files (SRDF, MJCF, cuRobo, Drake) are decided on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LinkLevel {
+    /// The exact URDF collision geometry (the sample stage's `mesh` verdicts): the default, and the
+    /// only one whose skips are safe for every consumer.
+    Mesh,
+    /// A shape type's link-level matrix (a pair is skipped when every shape pair between the links is).
+    Type(ShapeType),
+}
+
+impl LinkLevel {
+    /// The id used by `--link-type`: `mesh` or a shape type's.
+    pub fn id(self) -> &'static str {
+        match self {
+            LinkLevel::Mesh => "mesh",
+            LinkLevel::Type(t) => t.id(),
+        }
+    }
+
+    /// The level with this id.
+    pub fn from_id(id: &str) -> Option<LinkLevel> {
+        match id {
+            "mesh" => Some(LinkLevel::Mesh),
+            _ => ShapeType::from_id(id).map(LinkLevel::Type),
+        }
+    }
+}
+
+impl Serialize for LinkLevel {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.id())
+    }
+}
+
+impl<'de> Deserialize<'de> for LinkLevel {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let id = String::deserialize(d)?;
+        LinkLevel::from_id(&id)
+            .ok_or_else(|| serde::de::Error::custom(format!("unknown link level `{id}`")))
+    }
+}
+
 /// What to export and where; everything but `force` enters the stage key.
 #[derive(Debug, Clone, Serialize)]
 pub struct ExportOptions {
@@ -73,8 +115,10 @@ pub struct ExportOptions {
     pub out: Option<PathBuf>,
     /// Formats to write.
     pub formats: Vec<Format>,
-    /// The type whose link-level matrix the SRDF, MJCF, cuRobo and Drake files describe.
-    pub link_type: ShapeType,
+    /// The geometry the SRDF, MJCF, cuRobo and Drake files are decided on.
+    pub link_type: LinkLevel,
+    /// Keep every `never` pair that is only sampled (not certified) checked in those files.
+    pub require_certified: bool,
     /// The sphere type cuRobo's `collision_spheres` come from.
     pub sphere_type: ShapeType,
     /// An existing SRDF whose `<disable_collisions>` the SRDF output replaces (everything else kept).
@@ -85,13 +129,15 @@ pub struct ExportOptions {
 }
 
 impl ExportOptions {
-    /// Every format into `DIR/export`, link level from `hull`, cuRobo spheres from `decomp-sphere`.
+    /// Every format into `DIR/export`, link level from the exact geometry (`mesh`), cuRobo spheres from
+    /// `decomp-sphere`.
     pub fn new(urdd: &Path) -> ExportOptions {
         ExportOptions {
             urdd: urdd.to_path_buf(),
             out: None,
             formats: Format::ALL.to_vec(),
-            link_type: ShapeType::Hull,
+            link_type: LinkLevel::Mesh,
+            require_certified: false,
             sphere_type: ShapeType::DecompSphere,
             merge_into: None,
             force: false,
@@ -133,8 +179,15 @@ pub struct ExportReport {
     pub notes: Vec<String>,
     /// Per type counts.
     pub types: BTreeMap<ShapeType, ExportCounts>,
-    /// Link pairs of the link-level type that are skipped, and in all.
+    /// Link pairs of the link-level files that are skipped, and in all.
     pub link_pairs: (usize, usize),
+    /// The geometry the link-level files were decided on (`mesh` or a shape type).
+    #[serde(default)]
+    pub link_level: String,
+    /// Skipped link pairs per reason (MoveIt's names), and `never` split by evidence
+    /// (`never-certified`, `never-sampled`), plus `never-kept-checked` under `--require-certified`.
+    #[serde(default)]
+    pub link_reasons: BTreeMap<String, usize>,
 }
 
 /// Runs the export stage.
@@ -170,23 +223,50 @@ pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportRep
         matrices.push(SkipMatrix::load(&urdd, *t)?);
         progress.advance(1);
     }
+    // The layers (imported, user) are read from a type's link-level view: the chosen type, or for
+    // `mesh` the link hull (the first whole-link type sampled where it was not).
+    let layer_type = match opts.link_type {
+        LinkLevel::Type(t) => t,
+        LinkLevel::Mesh => [ShapeType::Hull, ShapeType::Obb, ShapeType::Sphere]
+            .into_iter()
+            .chain(sampled.iter().copied())
+            .find(|t| sampled.contains(t))
+            .unwrap_or(ShapeType::Hull),
+    };
     let link_matrix = matrices
         .iter()
-        .find(|m| m.shape_type == opts.link_type)
+        .find(|m| m.shape_type == layer_type)
         .ok_or_else(|| {
             Error::input(
                 &opts.urdd.join(SAMPLE),
-                opts.link_type.id(),
+                layer_type.id(),
                 "the link-level type was not sampled; choose another with --link-type",
             )
         })?;
     let links = link_matrix.links();
-    let link_pairs = link_matrix.link_pairs();
+    let link_pairs = match opts.link_type {
+        LinkLevel::Type(_) => link_matrix.link_pairs(),
+        LinkLevel::Mesh => {
+            let mesh = load_mesh_file(&urdd)?.ok_or_else(|| {
+                Error::input(
+                    &opts.urdd.join(SAMPLE),
+                    crate::sample::MESH_FILE,
+                    "missing: the sample output has no verdicts on the exact geometry; rerun `scm sample`",
+                )
+            })?;
+            consumer_link_pairs(link_matrix.link_pairs(), &mesh, opts.require_certified)
+        }
+    };
+    let link_reasons = link_reason_counts(&link_pairs);
     let comment = format!(
-        "Written by scm {} from the {} matrix of robot \"{robot_name}\" ({} samples).",
+        "Written by scm {} for robot \"{robot_name}\" ({} samples). Skips decided on {}{}.",
         crate::VERSION,
-        opts.link_type,
-        link_matrix.samples
+        link_matrix.samples,
+        match opts.link_type {
+            LinkLevel::Mesh => "the exact URDF collision geometry (mesh)".to_string(),
+            LinkLevel::Type(t) => format!("the {t} matrix"),
+        },
+        never_note(&link_reasons),
     );
 
     let stage = StageDir::create(&out)?;
@@ -252,6 +332,8 @@ pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportRep
             link_pairs.iter().filter(|p| p.entry.skip).count(),
             link_pairs.len(),
         ),
+        link_level: opts.link_type.id().into(),
+        link_reasons,
     };
     stage.write(EXPORT_INDEX, &json_bytes(&report))?;
     stage.commit()?;
@@ -313,6 +395,44 @@ fn write_paper_modules(
         write(format!("{folder}/module.yaml"), yaml.into_bytes())?;
     }
     Ok(())
+}
+
+/// Skipped link pairs per MoveIt reason; `never` also split by its evidence.
+fn link_reason_counts(pairs: &[LinkPair]) -> BTreeMap<String, usize> {
+    let mut counts = BTreeMap::new();
+    for p in pairs {
+        if p.entry.skip {
+            *counts.entry(srdf::moveit_reason(&p.entry)).or_default() += 1;
+        }
+        let key = match (p.evidence, p.entry.skip) {
+            (Some(NeverEvidence::Certified), true) => "never-certified",
+            (Some(NeverEvidence::Sampled), true) => "never-sampled",
+            (Some(NeverEvidence::Sampled), false) => "never-kept-checked",
+            _ => continue,
+        };
+        *counts.entry(key.to_string()).or_default() += 1;
+    }
+    counts
+}
+
+/// `; never: N certified, M sampled (...)` for the files' header comment.
+fn never_note(counts: &BTreeMap<String, usize>) -> String {
+    let n = |k: &str| counts.get(k).copied().unwrap_or(0);
+    if n("never-certified") + n("never-sampled") + n("never-kept-checked") == 0 {
+        return String::new();
+    }
+    let mut note = format!(
+        "; never: {} certified, {} only sampled",
+        n("never-certified"),
+        n("never-sampled")
+    );
+    if n("never-kept-checked") > 0 {
+        note.push_str(&format!(
+            ", {} sampled kept checked (--require-certified)",
+            n("never-kept-checked")
+        ));
+    }
+    note
 }
 
 fn counts(m: &SkipMatrix) -> ExportCounts {

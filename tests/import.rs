@@ -146,9 +146,26 @@ fn srdf_round_trip_gives_identical_link_matrices() {
         v["skip"].clone()
     };
     assert_eq!(skip(&first), skip(&second));
-    assert_eq!(
-        std::fs::read_to_string(&srdf).unwrap(),
-        std::fs::read_to_string(second.join(EXPORT).join(&name)).unwrap()
+    // The same elements; only the comments saying what decided each pair differ (`mesh, certified`
+    // in the first, `imported` in the second).
+    let elements = |path: &Path| -> Vec<String> {
+        std::fs::read_to_string(path)
+            .unwrap()
+            .lines()
+            .map(|l| {
+                l.split("<!--")
+                    .next()
+                    .unwrap_or_default()
+                    .trim_end()
+                    .to_string()
+            })
+            .collect()
+    };
+    assert_eq!(elements(&srdf), elements(&second.join(EXPORT).join(&name)));
+    let again = std::fs::read_to_string(second.join(EXPORT).join(&name)).unwrap();
+    assert!(
+        again.contains("reason=\"Never\"/> <!-- imported -->"),
+        "{again}"
     );
     // The second URDD's link pairs now come from the imported layer.
     let m = SkipMatrix::load(&Urdd::open(&second).unwrap(), ShapeType::Hull).unwrap();
@@ -177,12 +194,15 @@ fn diff_lists_disagreements_with_evidence() {
         String::from_utf8_lossy(&out.stderr)
     );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let m = SkipMatrix::load(&Urdd::open(&dir).unwrap(), ShapeType::Hull).unwrap();
-    let scm_verdict: BTreeMap<(String, String), bool> = m
-        .link_pairs()
-        .into_iter()
-        .map(|p| ((p.link1, p.link2), p.entry.skip))
-        .collect();
+    // scm's verdicts are the exported files': the exact geometry's.
+    let urdd = Urdd::open(&dir).unwrap();
+    let m = SkipMatrix::load(&urdd, ShapeType::Hull).unwrap();
+    let mesh = scm::sample::load_mesh_file(&urdd).unwrap().unwrap();
+    let scm_verdict: BTreeMap<(String, String), bool> =
+        scm::matrix::consumer_link_pairs(m.link_pairs(), &mesh, false)
+            .into_iter()
+            .map(|p| ((p.link1, p.link2), p.entry.skip))
+            .collect();
     let text = std::fs::read_to_string(&srdf).unwrap();
     let moveit = scm::formats::srdf::parse_srdf(&text, &srdf).unwrap();
     let moveit_skips = |a: &str, b: &str| {
@@ -202,11 +222,27 @@ fn diff_lists_disagreements_with_evidence() {
     let listed_a = v["moveit_skips_scm_checks"].as_array().unwrap();
     let listed_b = v["scm_skips_moveit_checks"].as_array().unwrap();
     assert_eq!((listed_a.len(), listed_b.len()), expected);
+    let dofs = urdd.robot().unwrap().dofs.len();
     for d in listed_a {
         assert_eq!(d["scm"], "checked");
-        // Evidence: scm saw the pair within reach, with a witness for every DOF.
-        let dofs = Urdd::open(&dir).unwrap().robot().unwrap().dofs.len();
+        assert_eq!(d["geometry"], "mesh");
+        // Evidence: the configuration behind scm's verdict, with a value for every DOF.
         assert_eq!(d["witness"].as_array().unwrap().len(), dofs);
+    }
+    // MoveIt's shipped panda SRDF disables a pair whose exact geometry collides: scm shows where.
+    assert!(
+        listed_a
+            .iter()
+            .any(|d| d["witness_kind"] == "exact geometry overlaps"),
+        "{listed_a:?}"
+    );
+    for d in listed_b {
+        if d["scm"] == "never" {
+            assert!(
+                d["evidence"] == "certified" || d["evidence"] == "sampled",
+                "{d}"
+            );
+        }
     }
     // Text mode names both sections.
     let text = scm_str(&[

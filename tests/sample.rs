@@ -112,11 +112,13 @@ fn demo_arm_reasons_are_the_designed_ones() {
     }
 }
 
-/// Sample bytes of every type written by one run.
+/// Sample bytes of every type written by one run, and of the exact geometry's verdicts.
 fn sample_bytes(dir: &Path) -> Vec<Vec<u8>> {
     ShapeType::ALL
         .iter()
-        .filter_map(|t| std::fs::read(dir.join("sample").join(format!("{}.json", t.id()))).ok())
+        .map(|t| format!("{}.json", t.id()))
+        .chain([scm::sample::MESH_FILE.to_string()])
+        .filter_map(|name| std::fs::read(dir.join("sample").join(name)).ok())
         .collect()
 }
 
@@ -153,7 +155,7 @@ fn same_seed_same_bytes_at_any_thread_count_and_sharding() {
     sample_in(&one, &["--threads", "1"]);
     sample_in(&two, &["--threads", "2"]);
     let reference = sample_bytes(&one);
-    assert_eq!(reference.len(), 4);
+    assert_eq!(reference.len(), 5, "four types and mesh.json");
     assert_eq!(
         sample_bytes(&two),
         reference,
@@ -222,6 +224,51 @@ fn targeted_search_finds_a_collision_random_sampling_misses() {
     // The witness really collides: the blade passes the post near atan2(0.2524, 0.1621) = 1.0 rad.
     assert!((search.q[0] - 1.0).abs() < 0.01, "{:?}", search.q);
     assert_eq!(file.summary.overturned, 1);
+
+    // On the exact geometry, the `never` certificate's branch and bound finds the same window.
+    let mesh = scm::sample::load_mesh_file(&urdd).unwrap().unwrap();
+    let exact = mesh.pair("post", "arm").unwrap();
+    assert_eq!(
+        (exact.overlaps, exact.reason),
+        (0, Reason::Checked),
+        "{exact:?}"
+    );
+    let c = exact.certificate.as_ref().unwrap();
+    assert_eq!(c.status, scm::sample::Status::Collides, "{c:?}");
+    assert!((c.q[0] - 1.0).abs() < 0.01, "{:?}", c.q);
+    assert_eq!(exact.witness.as_ref().unwrap().q, c.q);
+    assert_eq!(mesh.summary.overturned, 1);
+}
+
+/// On the shared arms, every `never` of the exact geometry is certified, none hides a collision the
+/// certificate search found, and the certificates stay within their budget.
+#[test]
+fn never_pairs_are_certified_on_arms() {
+    let Some(robots) = common::robots_dir() else {
+        return;
+    };
+    for robot in ["ur5e", "panda"] {
+        let urdf = robots.join(robot).join(format!("{robot}.urdf"));
+        let dir = common::sampled(&urdf, &format!("certified-{robot}"), 5000);
+        let urdd = Urdd::open(&dir).unwrap();
+        let mesh = scm::sample::load_mesh_file(&urdd).unwrap().unwrap();
+        let never = mesh
+            .summary
+            .reasons
+            .get(&Reason::Never)
+            .copied()
+            .unwrap_or(0);
+        assert!(never > 0, "{robot}: {:?}", mesh.summary);
+        assert_eq!(mesh.summary.certified, never, "{robot}: {:?}", mesh.summary);
+        for p in &mesh.pairs {
+            if let Some(c) = &p.certificate {
+                assert!(c.boxes <= mesh.certify.max_boxes_per_pair, "{p:?}");
+                assert!(c.lower_bound > mesh.certify.margin, "{p:?}");
+                assert!(c.closest >= c.lower_bound, "{p:?}");
+                assert_eq!(c.cleared, 1.0, "{p:?}");
+            }
+        }
+    }
 }
 
 #[test]

@@ -124,9 +124,13 @@ pub struct ExportFlags {
     /// Formats to write (comma-separated): matrices, srdf, mjcf, curobo, drake, paper; default all.
     #[arg(long, value_delimiter = ',', value_parser = parse_format)]
     pub format: Vec<scm::export::Format>,
-    /// The type whose link-level matrix the SRDF, MJCF, cuRobo and Drake files describe.
-    #[arg(long, default_value = "hull", value_parser = parse_shape_type)]
-    pub link_type: scm::shapes::ShapeType,
+    /// The geometry the SRDF, MJCF, cuRobo and Drake files are decided on: mesh (the exact URDF
+    /// collision geometry, safe for every consumer) or a shape type's link-level matrix.
+    #[arg(long, default_value = "mesh", value_parser = parse_link_level)]
+    pub link_type: scm::export::LinkLevel,
+    /// Keep every `never` pair that is only sampled (not certified) checked in those files.
+    #[arg(long)]
+    pub require_certified: bool,
     /// The sphere type of cuRobo's collision_spheres.
     #[arg(long, default_value = "decomp-sphere", value_parser = parse_shape_type)]
     pub sphere_type: scm::shapes::ShapeType,
@@ -146,9 +150,9 @@ pub struct ImportMoveitArgs {
     /// Also print the comparison with scm's verdicts (as `scm diff`).
     #[arg(long)]
     pub compare: bool,
-    /// The link-level type of the comparison.
-    #[arg(long = "type", default_value = "hull", value_parser = parse_shape_type)]
-    pub shape_type: scm::shapes::ShapeType,
+    /// The geometry standing for scm in the comparison: mesh or a shape type.
+    #[arg(long = "type", default_value = "mesh", value_parser = parse_link_level)]
+    pub link_level: scm::export::LinkLevel,
 }
 
 /// `scm diff`.
@@ -159,9 +163,9 @@ pub struct DiffArgs {
     /// The SRDF to compare with (default: the imported one).
     #[arg(long)]
     pub srdf: Option<PathBuf>,
-    /// The link-level type standing for scm.
-    #[arg(long = "type", default_value = "hull", value_parser = parse_shape_type)]
-    pub shape_type: scm::shapes::ShapeType,
+    /// The geometry standing for scm: mesh (the verdicts the exported files carry) or a shape type.
+    #[arg(long = "type", default_value = "mesh", value_parser = parse_link_level)]
+    pub link_level: scm::export::LinkLevel,
 }
 
 /// `scm inspect`.
@@ -258,6 +262,16 @@ pub struct SamplingArgs {
     /// Pairs never in collision but closer than this (m) get a targeted collision search.
     #[arg(long, default_value_t = 0.02)]
     pub search_margin: f64,
+    /// Most sub-boxes the certificate of one `never` link pair evaluates before it stays `sampled`.
+    #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..=1_000_000_000))]
+    pub certify_boxes: u64,
+    /// Most sub-boxes the certificates of a run evaluate in all.
+    #[arg(long, default_value_t = 20_000_000, value_parser = clap::value_parser!(u64).range(1..=100_000_000_000))]
+    pub certify_total: u64,
+    /// Most exact-geometry distances the certificate of one pair computes where its hulls overlap but
+    /// its geometry does not (0: hulls only).
+    #[arg(long, default_value_t = 2_000, value_parser = clap::value_parser!(u64).range(0..=1_000_000_000))]
+    pub certify_exact: u64,
 }
 
 /// Parses a shape type id, naming the valid ones when it is unknown.
@@ -272,5 +286,15 @@ fn parse_format(s: &str) -> Result<scm::export::Format, String> {
     scm::export::Format::from_id(s).ok_or_else(|| {
         let ids: Vec<&str> = scm::export::Format::ALL.iter().map(|f| f.id()).collect();
         format!("unknown format \"{s}\" (one of {})", ids.join(", "))
+    })
+}
+
+fn parse_link_level(s: &str) -> Result<scm::export::LinkLevel, String> {
+    scm::export::LinkLevel::from_id(s).ok_or_else(|| {
+        let ids: Vec<&str> = scm::shapes::ShapeType::ALL.iter().map(|t| t.id()).collect();
+        format!(
+            "unknown link level \"{s}\" (mesh, or a shape type: {})",
+            ids.join(", ")
+        )
     })
 }

@@ -114,6 +114,9 @@ fn sample_options(urdd: &Path, s: &SamplingArgs, force: bool) -> Result<SampleOp
     };
     opts.tolerance = s.tolerance;
     opts.search.margin = s.search_margin;
+    opts.certify.max_boxes_per_pair = s.certify_boxes;
+    opts.certify.max_boxes = s.certify_total;
+    opts.certify.max_exact_per_pair = s.certify_exact;
     opts.force = force;
     Ok(opts)
 }
@@ -134,6 +137,7 @@ fn export_options(
         opts.formats = formats;
     }
     opts.link_type = e.link_type;
+    opts.require_certified = e.require_certified;
     opts.sphere_type = e.sphere_type;
     opts.merge_into = e.merge_into.clone();
     opts.force = force;
@@ -223,7 +227,7 @@ fn run_import(cli: &Cli, args: &ImportMoveitArgs) -> Result<()> {
         Some(compare(&CompareOptions {
             urdd: args.urdd.clone(),
             srdf: None,
-            shape_type: args.shape_type,
+            link_level: args.link_level,
         })?)
     } else {
         None
@@ -268,7 +272,7 @@ fn run_diff(cli: &Cli, args: &DiffArgs) -> Result<()> {
     let c = compare(&CompareOptions {
         urdd: args.urdd.clone(),
         srdf: args.srdf.clone(),
-        shape_type: args.shape_type,
+        link_level: args.link_level,
     })?;
     if cli.json {
         print_json(&c);
@@ -416,6 +420,23 @@ fn print_sample(cli: &Cli, r: &SampleReport) {
             s.overturned
         );
     }
+    if let Some(m) = &r.mesh {
+        let reasons: Vec<String> = m
+            .reasons
+            .iter()
+            .map(|(reason, n)| format!("{} {n}", reason.id()))
+            .collect();
+        outln!(
+            "  {:<13} {:>4} link pairs: {}; never: {} certified, {} sampled; {} overturned by the certificates ({} boxes)",
+            "mesh",
+            m.pairs,
+            reasons.join(", "),
+            m.certified,
+            m.sampled,
+            m.overturned,
+            m.boxes
+        );
+    }
 }
 
 /// `scm bench`: time queries with and without skips, and check the skips against the meshes.
@@ -468,12 +489,19 @@ fn print_export(cli: &Cli, r: &ExportReport) {
     for n in &r.notes {
         eprintln!("note: {n}");
     }
+    let reasons: Vec<String> = r
+        .link_reasons
+        .iter()
+        .map(|(reason, n)| format!("{reason} {n}"))
+        .collect();
     outln!(
-        "{}: {} files; link level: {} of {} link pairs skipped",
+        "{}: {} files; link level ({}): {} of {} link pairs skipped ({})",
         r.out.display(),
         r.files.len(),
+        r.link_level,
         r.link_pairs.0,
-        r.link_pairs.1
+        r.link_pairs.1,
+        reasons.join(", ")
     );
     for (t, c) in &r.types {
         let layers: Vec<String> = c.layers.iter().map(|(l, n)| format!("{l} {n}")).collect();

@@ -6,6 +6,7 @@
 
 mod box_bound;
 mod epa;
+mod exact;
 mod hull_support;
 mod load;
 mod polish;
@@ -14,6 +15,7 @@ mod test_shapes;
 mod window;
 
 pub use box_bound::{BoundingBox, PlacedBox, box_bounds};
+pub use exact::{ExactError, ExactLink, winding_number};
 pub use hull_support::HullSupport;
 pub use load::ShapeSet;
 pub use polish::{closest_on_segments, closest_on_triangle};
@@ -281,15 +283,27 @@ pub fn witness_points(
     b: &CollisionShape,
     pb: &Pose,
 ) -> Option<(Vec3, Vec3)> {
+    signed_distance_points(a, pa, b, pb).map(|(_, p1, p2)| (p1, p2))
+}
+
+/// [`signed_distance`] with its [`witness_points`]. `None` only if GJK and EPA both fail.
+pub fn signed_distance_points(
+    a: &CollisionShape,
+    pa: &Pose,
+    b: &CollisionShape,
+    pb: &Pose,
+) -> Option<(f64, Vec3, Vec3)> {
     if let (Kind::Ball(ba), Kind::Ball(bb)) = (&a.kind, &b.kind) {
-        let dir = (pb.translation - pa.translation).normalize_or(Vec3::X);
+        let (ca, cb) = (pa.translation, pb.translation);
+        let dir = (cb - ca).normalize_or(Vec3::X);
         return Some((
-            pa.translation + dir * ba.radius,
-            pb.translation - dir * bb.radius,
+            ca.distance(cb) - ba.radius - bb.radius,
+            ca + dir * ba.radius,
+            cb - dir * bb.radius,
         ));
     }
-    let (_, p1, p2) = exact_query(a, b, &pa.inv_mul(pb), &mut Hint::default())?;
-    Some((pa.transform_point(p1), pa.transform_point(p2)))
+    let (d, p1, p2) = exact_query(a, b, &pa.inv_mul(pb), &mut Hint::default())?;
+    Some((d, pa.transform_point(p1), pa.transform_point(p2)))
 }
 
 /// How far GJK's distance may lie above its lower bound before [`polished`] makes it exact, in metres.

@@ -31,13 +31,23 @@ pub fn disable_lines(pairs: &[LinkPair], indent: &str) -> String {
         .filter(|p| p.entry.skip)
         .map(|p| {
             format!(
-                "{indent}<disable_collisions link1=\"{}\" link2=\"{}\" reason=\"{}\"/>\n",
+                "{indent}<disable_collisions link1=\"{}\" link2=\"{}\" reason=\"{}\"/> <!-- {} -->\n",
                 xml_escape(&p.link1),
                 xml_escape(&p.link2),
-                xml_escape(&moveit_reason(&p.entry))
+                xml_escape(&moveit_reason(&p.entry)),
+                decided_by(p).replace("--", "- -")
             )
         })
         .collect()
+}
+
+/// Which geometry decided a pair, for the comment after its line: `mesh, certified`, `mesh, sampled`,
+/// `mesh`, a shape type's id, `imported` or `user`.
+pub fn decided_by(p: &LinkPair) -> String {
+    match p.evidence {
+        Some(e) => format!("{}, {}", p.geometry, e.id()),
+        None => p.geometry.clone(),
+    }
 }
 
 /// A complete SRDF holding only the disabled pairs.
@@ -223,6 +233,8 @@ mod tests {
                 reason: reason.into(),
                 layer: Layer::Inferred,
             },
+            geometry: "mesh".into(),
+            evidence: None,
         }
     }
 
@@ -237,7 +249,7 @@ mod tests {
         .unwrap();
         assert_eq!(
             merged,
-            "<?xml version=\"1.0\"?>\n<!-- keep me -->\n<robot name=\"r\">\n  <group name=\"arm\">\n    <chain base_link=\"a\" tip_link=\"c\"/>\n  </group>\n  <!--Disable collisions-->\n  <disable_collisions link1=\"a\" link2=\"b\" reason=\"Adjacent\"/>\n  <disable_collisions link1=\"b\" link2=\"c\" reason=\"Always\"/>\n  <end_effector name=\"e\" parent_link=\"c\" group=\"arm\"/>\n</robot>\n"
+            "<?xml version=\"1.0\"?>\n<!-- keep me -->\n<robot name=\"r\">\n  <group name=\"arm\">\n    <chain base_link=\"a\" tip_link=\"c\"/>\n  </group>\n  <!--Disable collisions-->\n  <disable_collisions link1=\"a\" link2=\"b\" reason=\"Adjacent\"/> <!-- mesh -->\n  <disable_collisions link1=\"b\" link2=\"c\" reason=\"Always\"/> <!-- mesh -->\n  <end_effector name=\"e\" parent_link=\"c\" group=\"arm\"/>\n</robot>\n"
         );
     }
 
@@ -247,7 +259,7 @@ mod tests {
         let merged = merge_into(existing, Path::new("r.srdf"), &[pair("a", "b", "never")]).unwrap();
         assert_eq!(
             merged,
-            "<robot name=\"r\">\n    <group name=\"arm\"/>\n    <disable_collisions link1=\"a\" link2=\"b\" reason=\"Never\"/>\n</robot>\n"
+            "<robot name=\"r\">\n    <group name=\"arm\"/>\n    <disable_collisions link1=\"a\" link2=\"b\" reason=\"Never\"/> <!-- mesh -->\n</robot>\n"
         );
     }
 

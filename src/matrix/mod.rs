@@ -9,7 +9,7 @@ mod links;
 mod user;
 
 pub use imported::{IMPORTED_FILE, ImportedLayer, ImportedLookup, ImportedPair};
-pub use links::LinkPair;
+pub use links::{LinkPair, consumer_link_pairs};
 pub use user::{USER_FILE, UserEdit, UserLayer};
 
 use crate::error::{Error, Result};

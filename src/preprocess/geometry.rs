@@ -50,16 +50,7 @@ pub fn load_meshes(robot: &Robot, urdf: &Path) -> Result<MeshCache> {
 /// Loads every mesh file of a preprocessed URDD's robot, from the URDF the preprocess stage recorded
 /// (the original link geometry, as [`link_mesh`] assembles it).
 pub fn load_urdd_meshes(urdd: &crate::urdd::Urdd, robot: &Robot) -> Result<MeshCache> {
-    let urdf = urdd
-        .stage(crate::urdd::PREPROCESS)?
-        .inputs
-        .iter()
-        .find(|i| i.role == "urdf")
-        .map_or_else(
-            || urdd.dir().join("robot.urdf"),
-            |i| Path::new(&i.path).into(),
-        );
-    load_meshes(robot, &urdf)
+    load_meshes(robot, &urdd_urdf(urdd)?)
 }
 
 /// The link's geometry as one triangle soup in the link frame (empty for links without geometry).
@@ -111,4 +102,34 @@ pub fn mesh_notes(robot: &Robot, meshes: &MeshCache) -> Vec<String> {
                 .map(move |note| format!("mesh \"{uri}\" {note}"))
         })
         .collect()
+}
+
+/// Every link's exact collision geometry (the `mesh` type: meshes as loaded, primitives exact), `None`
+/// for links without geometry. A mesh parry cannot index is bad input naming the element.
+pub fn exact_links(
+    robot: &Robot,
+    meshes: &MeshCache,
+    urdf: &Path,
+) -> Result<Vec<Option<crate::collision::ExactLink>>> {
+    robot
+        .links
+        .par_iter()
+        .map(|link| {
+            crate::collision::ExactLink::new(&link.geometry, |g| element_mesh(g, meshes))
+                .map_err(|e| Error::input(urdf, element_label(link, e.line), e.message))
+        })
+        .collect()
+}
+
+/// The URDF a preprocessed URDD was built from, as its preprocess record names it.
+pub fn urdd_urdf(urdd: &crate::urdd::Urdd) -> Result<PathBuf> {
+    Ok(urdd
+        .stage(crate::urdd::PREPROCESS)?
+        .inputs
+        .iter()
+        .find(|i| i.role == "urdf")
+        .map_or_else(
+            || urdd.dir().join("robot.urdf"),
+            |i| Path::new(&i.path).into(),
+        ))
 }

@@ -3,7 +3,10 @@
 
 mod geometry;
 
-pub use geometry::{MeshCache, element_mesh, link_mesh, load_meshes, load_urdd_meshes, mesh_notes};
+pub use geometry::{
+    MeshCache, element_mesh, exact_links, link_mesh, load_meshes, load_urdd_meshes, mesh_notes,
+    urdd_urdf,
+};
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;

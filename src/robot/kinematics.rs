@@ -36,6 +36,21 @@ impl Dof {
     }
 }
 
+/// A moving joint on the path between two links, placed at some configuration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathJoint {
+    /// A point on the joint's axis.
+    pub point: Vec3,
+    /// The unit axis.
+    pub axis: Vec3,
+    /// Whether the joint slides along its axis (prismatic) rather than turning about it.
+    pub prismatic: bool,
+    /// The DOF that drives it (its own, or its leader's for a mimic joint).
+    pub dof: usize,
+    /// How far the joint moves per unit of its DOF: 1, or a mimic joint's |multiplier|.
+    pub rate: f64,
+}
+
 #[derive(Debug, Clone)]
 struct Step {
     /// The joint's index in the robot.
@@ -205,6 +220,47 @@ impl Kinematics {
                 .fold(Pose::IDENTITY, |pose, &i| pose * self.steps[i].transform(q))
         };
         (pose(&ca[common..]), pose(&cb[common..]))
+    }
+
+    /// Poses of links `a` and `b` at configuration `q` in the frame of their nearest common ancestor
+    /// (as [`Kinematics::pair_poses`]), writing into `side_a` and `side_b` the moving joints of each
+    /// side's chain, from the ancestor down, placed at `q` in that frame.
+    pub fn pair_path(
+        &self,
+        q: &[f64],
+        a: usize,
+        b: usize,
+        side_a: &mut Vec<PathJoint>,
+        side_b: &mut Vec<PathJoint>,
+    ) -> (Pose, Pose) {
+        let (ca, cb) = (&self.chains[a], &self.chains[b]);
+        let common = ca.iter().zip(cb).take_while(|(x, y)| x == y).count();
+        let walk = |chain: &[usize], joints: &mut Vec<PathJoint>| {
+            joints.clear();
+            chain.iter().fold(Pose::IDENTITY, |pose, &i| {
+                let step = &self.steps[i];
+                let frame = pose * step.origin;
+                let (dof, rate) = match step.value {
+                    Value::Dof(d) => (Some(d), 1.0),
+                    Value::Mimic {
+                        dof, multiplier, ..
+                    } => (dof, multiplier.abs()),
+                    Value::Fixed => (None, 0.0),
+                };
+                let turns = matches!(step.kind, JointKind::Revolute | JointKind::Continuous);
+                if let Some(dof) = dof.filter(|_| turns || step.kind == JointKind::Prismatic) {
+                    joints.push(PathJoint {
+                        point: frame.translation,
+                        axis: frame.rotation * step.axis,
+                        prismatic: !turns,
+                        dof,
+                        rate,
+                    });
+                }
+                pose * step.transform(q)
+            })
+        };
+        (walk(&ca[common..], side_a), walk(&cb[common..], side_b))
     }
 
     /// Every joint's value at configuration `q`, indexed by joint (mimic joints follow their leader;

@@ -6,8 +6,10 @@
 //! sharding give the same bytes.
 
 mod block;
+mod certify;
 mod engine;
 mod finalize;
+mod mesh;
 mod reasons;
 mod records;
 mod rng;
@@ -15,7 +17,9 @@ mod search;
 mod stats;
 mod table;
 
+pub use certify::{Certificate, CertifyParams, PairGeometry, Status, certify};
 pub use engine::{CHUNK, Engine};
+pub use mesh::{LinkPairRecord, MESH_FILE, MeshFile, MeshSummary, NeverEvidence, load_mesh_file};
 pub use reasons::{Evidence, Reason, infer, never_upper_bound};
 pub use records::{PairRecord, SampleFile, TypeSummary, Witness};
 pub use rng::Rng;
@@ -83,6 +87,8 @@ pub struct SampleOptions {
     pub tolerance: f64,
     /// Targeted search.
     pub search: SearchParams,
+    /// The budget of the `never` certificates on the exact geometry's link pairs.
+    pub certify: CertifyParams,
     /// Worker threads (`None`: all cores). Does not change the result.
     #[serde(skip)]
     pub threads: Option<usize>,
@@ -107,6 +113,7 @@ impl SampleOptions {
             mean_samples: 25_000,
             tolerance: DEFAULT_TOLERANCE,
             search: SearchParams::default(),
+            certify: CertifyParams::default(),
             threads: None,
             shard: None,
             force: false,
@@ -127,6 +134,9 @@ pub struct SampleReport {
     pub samples: u64,
     /// Per type: pair counts per reason, and the search's work.
     pub types: BTreeMap<ShapeType, TypeSummary>,
+    /// The link-level verdicts on the exact geometry (`mesh`): reasons, certified and sampled `never`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<MeshSummary>,
     /// Seconds spent sampling (not counting loading and writing).
     pub seconds: f64,
     /// Why the stage reran although its key was unchanged (an output file changed or went missing).
@@ -187,11 +197,16 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
         samples: opts.samples,
         types,
         seconds,
+        mesh: None,
         notes: Vec::new(),
     };
     if opts.shard.is_none() && !opts.force && urdd.is_up_to_date(SAMPLE, &key) {
-        let types = urdd.stage_summary(SAMPLE, None)?;
-        return Ok(report(true, None, types, 0.0));
+        let types = urdd.stage_summary(SAMPLE, Some("types"))?;
+        let mesh = urdd.stage_summary(SAMPLE, Some("mesh"))?;
+        return Ok(SampleReport {
+            mesh,
+            ..report(true, None, types, 0.0)
+        });
     }
     let engine = Engine::load(&urdd, &opts.types)?;
     let pool = rayon::ThreadPoolBuilder::new()
@@ -228,10 +243,12 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
         ));
     }
     let files = pool.install(|| finalize::finalize(&engine, opts, acc));
+    let mesh = pool.install(|| mesh::mesh_verdicts(&urdd, &engine, opts, &files, progress))?;
     let seconds = started.elapsed().as_secs_f64();
-    write_stage(&mut urdd, opts, key, &files)?;
+    write_stage(&mut urdd, opts, key, &files, &mesh)?;
     Ok(SampleReport {
         notes,
+        mesh: Some(mesh.summary.clone()),
         ..report(
             false,
             None,
@@ -298,8 +315,10 @@ pub fn merge_shards(
     progress.finish();
     let started = std::time::Instant::now();
     let files = finalize::finalize(&engine, opts, acc);
-    write_stage(&mut urdd, opts, key, &files)?;
+    let mesh = mesh::mesh_verdicts(&urdd, &engine, opts, &files, progress)?;
+    write_stage(&mut urdd, opts, key, &files, &mesh)?;
     Ok(SampleReport {
+        mesh: Some(mesh.summary.clone()),
         urdd: opts.urdd.clone(),
         up_to_date: false,
         shard_file: None,
@@ -338,6 +357,7 @@ fn write_stage(
     opts: &SampleOptions,
     key: String,
     files: &[SampleFile],
+    mesh: &MeshFile,
 ) -> Result<()> {
     let stage = StageDir::create(&opts.urdd.join(SAMPLE))?;
     let mut outputs = Vec::new();
@@ -349,6 +369,8 @@ fn write_stage(
         stage.write(&name, &bytes)?;
         outputs.push(name);
     }
+    stage.write(MESH_FILE, &json_bytes(mesh))?;
+    outputs.push(MESH_FILE.to_string());
     stage.commit()?;
     let robot = urdd.manifest().robot.clone();
     let preprocess_key = urdd.stage(PREPROCESS)?.key.clone();
@@ -367,7 +389,7 @@ fn write_stage(
             folder: SAMPLE.into(),
             outputs,
             stamps: Default::default(),
-            summary: serde_json::to_value(summary).unwrap_or_default(),
+            summary: serde_json::json!({ "types": summary, "mesh": &mesh.summary }),
             depends_on: [(PREPROCESS.to_string(), preprocess_key)].into(),
         },
     )

@@ -6,7 +6,7 @@ use scm::math::Vec3;
 use scm::matrix::{ImportedLayer, SkipMatrix, UserLayer, load_sample};
 use scm::query::{Scratch, SelfChecker, SkipMode};
 use scm::robot::{Dof, Kinematics, Robot};
-use scm::sample::SampleFile;
+use scm::sample::{MeshFile, SampleFile, load_mesh_file};
 use scm::shapes::ShapeType;
 use scm::urdd::Urdd;
 use std::path::Path;
@@ -84,6 +84,9 @@ pub struct Model {
     pub user: UserLayer,
     /// The sampled types, in [`ShapeType::ALL`] order.
     pub types: Vec<TypeData>,
+    /// The link-level verdicts on the exact geometry (what the exported files carry), with each
+    /// `never`'s evidence; `None` for a URDD sampled without them.
+    pub mesh: Option<MeshFile>,
 }
 
 impl Model {
@@ -119,6 +122,7 @@ impl Model {
                 Error::input(dir, "sample", "no shape type was sampled; run `scm sample`")
             }));
         }
+        let mesh = load_mesh_file(&urdd)?;
         Ok(Model {
             urdd,
             robot,
@@ -126,6 +130,7 @@ impl Model {
             imported,
             user,
             types,
+            mesh,
         })
     }
 

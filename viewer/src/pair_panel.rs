@@ -197,6 +197,13 @@ fn pair_panel(
                     if ui.add_enabled(usable, egui::Button::new(label)).clicked() {
                         go_to = Some(witness.clone());
                     }
+                    let (la, lb) = (&m.shapes[s.a].link, &m.shapes[s.b].link);
+                    if let Some(r) = viewer.0.mesh.as_ref().and_then(|f| f.pair(la, lb)) {
+                        ui.separator();
+                        if let Some(q) = exact_geometry(ui, r, usable) {
+                            go_to = Some(q);
+                        }
+                    }
                 }
             }
         });
@@ -211,4 +218,53 @@ fn pair_panel(
         joints.q = q;
     }
     Ok(())
+}
+
+/// The link pair's verdict on the exact geometry (what the SRDF, MJCF, cuRobo and Drake files carry)
+/// and its evidence; the configuration to jump to when its button is clicked.
+fn exact_geometry(
+    ui: &mut egui::Ui,
+    r: &scm::sample::LinkPairRecord,
+    usable: bool,
+) -> Option<Vec<f64>> {
+    let evidence = r
+        .evidence
+        .map_or(String::new(), |e| format!(", {}", e.id()));
+    ui.label(format!(
+        "Links on the exact geometry (exported files): {}{evidence}",
+        r.reason.id()
+    ));
+    let millimetres = |d: f64| format!("{:.2} mm", d * 1000.0);
+    let mut go_to = None;
+    if let Some(c) = &r.certificate {
+        ui.label(format!(
+            "certificate: {} after {} boxes; proved >= {} over {:.1}% of the joint box; closest found {}",
+            match c.status {
+                scm::sample::Status::Certified => "proved",
+                scm::sample::Status::Budget => "budget spent",
+                scm::sample::Status::HullsTouch => "the hulls touch",
+                scm::sample::Status::Collides => "collision found",
+            },
+            c.boxes,
+            millimetres(c.lower_bound),
+            100.0 * c.cleared,
+            millimetres(c.closest)
+        ));
+        if ui
+            .add_enabled(usable, egui::Button::new("Go to the certificate's closest"))
+            .clicked()
+        {
+            go_to = Some(c.q.clone());
+        }
+    }
+    if let Some(w) = &r.witness {
+        let label = match w.sample {
+            Some(k) => format!("Go to the exact geometry's collision (sample {k})"),
+            None => "Go to the exact geometry's collision".into(),
+        };
+        if ui.add_enabled(usable, egui::Button::new(label)).clicked() {
+            go_to = Some(w.q.clone());
+        }
+    }
+    go_to
 }

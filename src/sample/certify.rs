@@ -1,0 +1,666 @@
+//! Certificates for `never`: a proof that two links' hulls cannot touch anywhere within the joint limits
+//! of the joints on the path between them, by branch and bound over that box of joint values.
+//!
+//! The bound. Fix the links' common ancestor and move the path joints from a sub-box's centre `c` to
+//! any `q` in it one joint at a time, each side's chain from the ancestor down. When joint `j` turns by
+//! `t`, every point of the hull below it moves along an arc of chord `2 r sin(t / 2)`, `r` its distance
+//! from the joint's axis; the joints above `j` have moved axis and point together and the joints below
+//! still hold their centre values, so `r` is at most the hull's reach about `j`'s axis *at `c`*
+//! (computed exactly, from the hull's vertices). A prismatic joint moves points by the slide itself.
+//! Summing over both chains, no point of either hull moves farther than `D = sum_j disp_j`, so the
+//! hulls' distance anywhere in the sub-box is at least `d(c) - D`. A sub-box with `d(c) - D` above a
+//! small margin (the distance solver's tolerance) is cleared; otherwise it is split in two along the
+//! DOF whose joints contribute most to `D`. The hulls contain the links' exact geometry, so a cleared
+//! joint box proves the meshes never touch. A box centre where the hulls overlap is checked on the
+//! exact geometry: a collision there is a witness against `never`; otherwise the hulls alone cannot
+//! prove the pair, and the caller may search again with the exact geometry's distance standing in
+//! where the hulls' bound falls short ([`PairGeometry::exact`]).
+
+use crate::collision::{CollisionShape, signed_distance, signed_distance_points};
+use crate::math::{Pose, Vec3};
+use crate::robot::{Kinematics, PathJoint};
+use serde::{Deserialize, Serialize};
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+/// The certificate search's budget; part of the sample stage's key.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CertifyParams {
+    /// Most sub-boxes evaluated for one link pair.
+    pub max_boxes_per_pair: u64,
+    /// Most sub-boxes evaluated over all pairs of a run.
+    pub max_boxes: u64,
+    /// A sub-box is cleared when its lower bound exceeds this (m): the distance solver's tolerance.
+    pub margin: f64,
+    /// For a pair whose hulls overlap where its exact geometry does not, most exact-geometry distances
+    /// its second search computes (each costs about a millisecond on meshes of thousands of
+    /// triangles, a hull query about a microsecond).
+    pub max_exact_per_pair: u64,
+}
+
+impl Default for CertifyParams {
+    fn default() -> Self {
+        CertifyParams {
+            max_boxes_per_pair: 100_000,
+            max_boxes: 20_000_000,
+            margin: 1e-6,
+            max_exact_per_pair: 2_000,
+        }
+    }
+}
+
+/// How a certificate search ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Status {
+    /// Every sub-box was cleared: the hulls, so the meshes, never touch within the limits.
+    Certified,
+    /// The budget ran out before every sub-box was cleared.
+    Budget,
+    /// The hulls overlap at a box centre where the exact geometry does not, and no exact distance was
+    /// given to go on with: hulls alone cannot prove it.
+    HullsTouch,
+    /// The exact geometry collides at a box centre: a witness against `never`.
+    Collides,
+}
+
+/// What a certificate search established for one link pair.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Certificate {
+    /// How the search ended.
+    pub status: Status,
+    /// Sub-boxes evaluated.
+    pub boxes: u64,
+    /// The least lower bound over the sub-boxes of the hulls' distance (or, where the second search used
+    /// it, the exact geometry's) (m): a proof that the pair stays this far apart over the cleared share
+    /// of the box (for a certified pair, over all of it).
+    pub lower_bound: f64,
+    /// The share of the joint box (by volume, each DOF scaled to its range) that was cleared.
+    pub cleared: f64,
+    /// The least hull distance found at a box centre (m): the true minimum is between `lower_bound`
+    /// and this.
+    pub closest: f64,
+    /// The configuration of `closest` (or of the collision, for [`Status::Collides`]).
+    pub q: Vec<f64>,
+    /// Sub-boxes where the hulls' bound fell short and the exact geometry's distance was computed.
+    #[serde(default)]
+    pub exact_queries: u64,
+}
+
+/// A lower bound on the distance between two links' exact geometry, given their poses.
+pub type ExactDistance<'a> = dyn Fn(&Pose, &Pose) -> f64 + Sync + 'a;
+
+/// One link pair to certify: its links, their hulls and where the other DOFs rest.
+pub struct PairGeometry<'a> {
+    /// The robot's kinematics.
+    pub kinematics: &'a Kinematics,
+    /// First link and its hull.
+    pub link_a: usize,
+    /// The hull of `link_a`.
+    pub hull_a: &'a CollisionShape,
+    /// Second link.
+    pub link_b: usize,
+    /// The hull of `link_b`.
+    pub hull_b: &'a CollisionShape,
+    /// A full configuration; the path DOFs are overwritten, the others (which cannot change the pair's
+    /// distance) stay.
+    pub base: &'a [f64],
+    /// A lower bound on the distance between the links' exact geometry (0 where it overlaps), given the
+    /// links' poses in their common ancestor's frame, and how many times it may be called: where the
+    /// hulls cannot clear a sub-box, the geometry inside them may. `None`: hulls only (a box centre
+    /// where they overlap ends the search).
+    pub exact: Option<(&'a ExactDistance<'a>, u64)>,
+}
+
+/// A sub-box of the path DOFs' joint values, with what its centre showed.
+struct SubBox {
+    center: Vec<f64>,
+    half: Vec<f64>,
+    volume: f64,
+    lower: f64,
+    /// Each path DOF's share of the bound at the centre.
+    weights: Vec<f64>,
+}
+
+impl PartialEq for SubBox {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for SubBox {}
+impl PartialOrd for SubBox {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for SubBox {
+    /// The heap pops the least lower bound first (ties by centre, so the order is deterministic).
+    fn cmp(&self, other: &Self) -> Ordering {
+        other.lower.total_cmp(&self.lower).then_with(|| {
+            other
+                .center
+                .iter()
+                .zip(&self.center)
+                .map(|(a, b)| a.total_cmp(b))
+                .find(|o| o.is_ne())
+                .unwrap_or(Ordering::Equal)
+        })
+    }
+}
+
+/// What one box centre showed: the hulls' distance, the bound's lower value, each path DOF's share.
+struct Evaluation {
+    distance: f64,
+    lower: f64,
+    weights: Vec<f64>,
+}
+
+/// Scratch for evaluations.
+struct Evaluator<'a> {
+    pair: &'a PairGeometry<'a>,
+    /// The path DOFs (indices into the configuration).
+    dofs: Vec<usize>,
+    q: Vec<f64>,
+    side_a: Vec<PathJoint>,
+    side_b: Vec<PathJoint>,
+    /// The clearing margin: the exact geometry is only consulted where the hulls' bound is below it.
+    margin: f64,
+    /// Exact-geometry distances computed so far.
+    exact_queries: u64,
+}
+
+impl Evaluator<'_> {
+    fn evaluate(&mut self, center: &[f64], half: &[f64]) -> Evaluation {
+        for (&d, &c) in self.dofs.iter().zip(center) {
+            self.q[d] = c;
+        }
+        let p = self.pair;
+        let (pa, pb) = p.kinematics.pair_path(
+            &self.q,
+            p.link_a,
+            p.link_b,
+            &mut self.side_a,
+            &mut self.side_b,
+        );
+        let (ha, hb) = (p.hull_a.pose(&pa), p.hull_b.pose(&pb));
+        // The unit direction from the closest point of A to B's: every point's motion counts only along
+        // it, since the gap between the hulls' extents along a fixed direction bounds their distance.
+        let (distance, normal) = match signed_distance_points(p.hull_a, &ha, p.hull_b, &hb) {
+            Some((d, x, y)) if d > 0.0 => (d, Some((y - x) / d)),
+            Some((d, _, _)) => (d, None),
+            None => (signed_distance(p.hull_a, &ha, p.hull_b, &hb), None),
+        };
+        // Each DOF's share of the bound: counted along `normal` (for the hulls' distance, convex sets)
+        // and whole (for any sets: the exact geometry's distance).
+        let mut weights = vec![0.0; self.dofs.len()];
+        let mut whole = vec![0.0; self.dofs.len()];
+        for (joints, hull, pose) in [(&self.side_a, p.hull_a, &pa), (&self.side_b, p.hull_b, &pb)] {
+            // How far the joints above have turned the axes below, at most.
+            let mut spread = 0.0;
+            for j in joints.iter() {
+                let Some(k) = self.dofs.iter().position(|&d| d == j.dof) else {
+                    continue;
+                };
+                let travel = j.rate * half[k];
+                let (motion, share) = if j.prismatic {
+                    (
+                        travel,
+                        normal.map_or(1.0, |n| along(n, j.axis, spread, false)),
+                    )
+                } else {
+                    (
+                        2.0 * hull.reach(pose, j.point, j.axis)
+                            * (0.5 * travel.min(std::f64::consts::PI)).sin(),
+                        normal.map_or(1.0, |n| along(n, j.axis, spread, true)),
+                    )
+                };
+                weights[k] += motion * share;
+                whole[k] += motion;
+                if !j.prismatic {
+                    spread += travel;
+                }
+            }
+        }
+        let mut lower = distance - weights.iter().sum::<f64>();
+        if lower <= self.margin
+            && let Some((exact, most)) = p.exact
+            && self.exact_queries < most
+        {
+            // The hulls contain the geometry, so its points move no farther than theirs.
+            let bound = exact(&pa, &pb) - whole.iter().sum::<f64>();
+            self.exact_queries += 1;
+            if bound > lower {
+                lower = bound;
+                weights = whole;
+            }
+        }
+        Evaluation {
+            distance,
+            lower,
+            weights,
+        }
+    }
+}
+
+/// How much of a motion counts along the unit direction `n` when the joint's unit axis is `u` at the box
+/// centre and may have turned by up to `spread` since: a turn about `u` moves a point at distance `r`
+/// from it by at most `2 r sin(t / 2) |n x u|` along `n`, a slide along `u` by `t |n . u|`. Returns the
+/// largest `|n x u|` (`turn`) or `|n . u|` over the axes within `spread` of `u`.
+fn along(n: Vec3, u: Vec3, spread: f64, turn: bool) -> f64 {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let angle = n.dot(u).clamp(-1.0, 1.0).acos();
+    let (lo, hi) = ((angle - spread).max(0.0), (angle + spread).min(PI));
+    if turn {
+        if lo <= FRAC_PI_2 && FRAC_PI_2 <= hi {
+            1.0
+        } else {
+            lo.sin().max(hi.sin())
+        }
+    } else {
+        lo.cos().abs().max(hi.cos().abs())
+    }
+}
+
+/// Searches for a certificate that the pair's hulls never touch within the path DOFs' limits,
+/// evaluating at most `budget` sub-boxes; `collides(q)` checks the exact geometry where the hulls
+/// overlap at a box centre.
+pub fn certify(
+    pair: &PairGeometry,
+    margin: f64,
+    budget: u64,
+    collides: impl Fn(&[f64]) -> bool,
+) -> Certificate {
+    let dofs = path_dofs(pair);
+    let limits: Vec<(f64, f64)> = dofs
+        .iter()
+        .map(|&d| {
+            let dof = &pair.kinematics.dofs()[d];
+            (dof.lower, dof.upper)
+        })
+        .collect();
+    let mut eval = Evaluator {
+        pair,
+        dofs,
+        q: pair.base.to_vec(),
+        side_a: Vec::new(),
+        side_b: Vec::new(),
+        margin,
+        exact_queries: 0,
+    };
+    let center: Vec<f64> = limits.iter().map(|(lo, hi)| 0.5 * (lo + hi)).collect();
+    let half: Vec<f64> = limits.iter().map(|(lo, hi)| 0.5 * (hi - lo)).collect();
+    let mut out = Certificate {
+        status: Status::Certified,
+        boxes: 0,
+        lower_bound: f64::INFINITY,
+        cleared: 0.0,
+        closest: f64::INFINITY,
+        q: Vec::new(),
+        exact_queries: 0,
+    };
+    let mut open = BinaryHeap::new();
+    let mut pending = vec![(center, half, 1.0)];
+    loop {
+        // Evaluate the new boxes: clear, keep open, or stop at an overlap.
+        for (center, half, volume) in pending.drain(..) {
+            let e = eval.evaluate(&center, &half);
+            out.boxes += 1;
+            if e.distance < out.closest {
+                out.closest = e.distance;
+                out.q = eval.q.clone();
+            }
+            if e.distance <= 0.0 {
+                let stop = if collides(&eval.q) {
+                    out.q = eval.q.clone();
+                    Some(Status::Collides)
+                } else {
+                    pair.exact.is_none().then_some(Status::HullsTouch)
+                };
+                if let Some(status) = stop {
+                    out.status = status;
+                    out.lower_bound = out.lower_bound.min(e.lower);
+                    out.exact_queries = eval.exact_queries;
+                    return out;
+                }
+            }
+            if e.lower > margin {
+                out.cleared += volume;
+                out.lower_bound = out.lower_bound.min(e.lower);
+            } else {
+                open.push(SubBox {
+                    center,
+                    half,
+                    volume,
+                    lower: e.lower,
+                    weights: e.weights,
+                });
+            }
+        }
+        out.exact_queries = eval.exact_queries;
+        let Some(b) = open.pop() else {
+            return out;
+        };
+        if out.boxes + 2 > budget {
+            out.status = Status::Budget;
+            out.lower_bound = out.lower_bound.min(b.lower);
+            return out;
+        }
+        // Split along the DOF that contributes most to the bound.
+        let k = (0..b.weights.len())
+            .max_by(|&x, &y| b.weights[x].total_cmp(&b.weights[y]).then(y.cmp(&x)))
+            .unwrap_or(0);
+        for sign in [-1.0, 1.0] {
+            let (mut center, mut half) = (b.center.clone(), b.half.clone());
+            half[k] *= 0.5;
+            center[k] += sign * half[k];
+            pending.push((center, half, 0.5 * b.volume));
+        }
+    }
+}
+
+/// The DOFs that move a joint on the pair's path, in ascending order.
+fn path_dofs(pair: &PairGeometry) -> Vec<usize> {
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    pair.kinematics
+        .pair_path(pair.base, pair.link_a, pair.link_b, &mut a, &mut b);
+    let mut dofs: Vec<usize> = a.iter().chain(&b).map(|j| j.dof).collect();
+    dofs.sort_unstable();
+    dofs.dedup();
+    dofs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{Pose, Rotation, Vec3};
+    use crate::robot::{UrdfOptions, parse_urdf};
+    use crate::sample::Rng;
+    use crate::shapes::{Geometry, Obb, Sphere};
+    use std::path::Path;
+
+    /// A robot from URDF joints over links `base, l1, l2, ...` (no geometry: shapes are given apart).
+    fn robot(joints: &str, links: usize) -> Kinematics {
+        let links: String = (0..links)
+            .map(|i| {
+                format!(
+                    "<link name=\"{}\"/>",
+                    if i == 0 {
+                        "base".into()
+                    } else {
+                        format!("l{i}")
+                    }
+                )
+            })
+            .collect();
+        let text = format!("<robot name=\"t\">{links}{joints}</robot>");
+        let robot = parse_urdf(&text, Path::new("t.urdf"), &UrdfOptions::default()).unwrap();
+        Kinematics::new(&robot)
+    }
+
+    /// Links `a` and `b` with their hulls, the other DOFs at `base`, hulls only.
+    fn hulls<'a>(
+        kinematics: &'a Kinematics,
+        (link_a, hull_a): (usize, &'a CollisionShape),
+        (link_b, hull_b): (usize, &'a CollisionShape),
+        base: &'a [f64],
+    ) -> PairGeometry<'a> {
+        PairGeometry {
+            kinematics,
+            link_a,
+            hull_a,
+            link_b,
+            hull_b,
+            base,
+            exact: None,
+        }
+    }
+
+    fn ball(center: Vec3, radius: f64) -> CollisionShape {
+        CollisionShape::new(&Geometry::Sphere(Sphere { center, radius })).unwrap()
+    }
+
+    /// The arm of `certify_two_links`: l1 turns about z at the origin over `[lower, upper]`.
+    const ONE_JOINT: &str = r#"<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+        <axis xyz="0 0 1"/><limit lower="-1.0" upper="1.5" effort="1" velocity="1"/></joint>"#;
+
+    fn run_one(gap: f64) -> Certificate {
+        // A ball of radius 0.1 at 1 m from the axis sweeps past a ball at (2, 0, 0): the least
+        // distance, at angle 0, is 2 - 1 - 0.1 - r = gap.
+        let k = robot(ONE_JOINT, 2);
+        let moving = ball(Vec3::new(1.0, 0.0, 0.0), 0.1);
+        let fixed = ball(Vec3::new(2.0, 0.0, 0.0), 0.9 - gap);
+        let base = k.home();
+        let pair = hulls(&k, (0, &fixed), (1, &moving), &base);
+        let exact = |q: &[f64]| {
+            let (pa, pb) = k.pair_poses(q, 0, 1);
+            signed_distance(&fixed, &fixed.pose(&pa), &moving, &moving.pose(&pb)) <= 0.0
+        };
+        certify(&pair, 1e-6, 100_000, exact)
+    }
+
+    #[test]
+    fn certify_two_links() {
+        let c = run_one(1e-3);
+        assert_eq!(c.status, Status::Certified, "{c:?}");
+        assert!(c.lower_bound > 1e-6 && c.lower_bound <= 1e-3, "{c:?}");
+        assert!(c.closest >= 1e-3 - 1e-12, "{c:?}");
+        assert_eq!(c.cleared, 1.0);
+        // Closing the gap to -1 mm turns the certificate into a witness.
+        let w = run_one(-1e-3);
+        assert_eq!(w.status, Status::Collides, "{w:?}");
+        assert!(
+            w.q[0].abs() < 0.0317,
+            "the collision is within 0.0316 rad of 0: {w:?}"
+        );
+    }
+
+    /// A planar 2R arm (l1 about z at the origin, l2 about z at x = 1) whose tip ball at x = 0.5 in
+    /// l2 reaches x = 1.5 + 0.1 only at the configuration (0, 0).
+    const TWO_JOINTS: &str = r#"
+        <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+          <axis xyz="0 0 1"/><limit lower="-0.4" upper="0.6" effort="1" velocity="1"/></joint>
+        <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+          <origin xyz="1 0 0"/><axis xyz="0 0 1"/>
+          <limit lower="-0.7" upper="0.3" effort="1" velocity="1"/></joint>"#;
+
+    #[test]
+    fn certify_three_links() {
+        for (gap, expected) in [(1e-3, Status::Certified), (-1e-3, Status::Collides)] {
+            let k = robot(TWO_JOINTS, 3);
+            let tip = ball(Vec3::new(0.5, 0.0, 0.0), 0.1);
+            let wall = ball(Vec3::new(2.0, 0.0, 0.0), 0.4 - gap);
+            let base = k.home();
+            let pair = hulls(&k, (0, &wall), (2, &tip), &base);
+            let exact = |q: &[f64]| {
+                let (pa, pb) = k.pair_poses(q, 0, 2);
+                signed_distance(&wall, &wall.pose(&pa), &tip, &tip.pose(&pb)) <= 0.0
+            };
+            let c = certify(&pair, 1e-6, 100_000, exact);
+            assert_eq!(c.status, expected, "gap {gap}: {c:?}");
+            if expected == Status::Certified {
+                assert!(c.lower_bound > 0.0 && c.lower_bound <= gap, "{c:?}");
+                assert!(c.closest >= gap - 1e-12, "{c:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_tiny_budget_reports_what_it_cleared() {
+        let k = robot(TWO_JOINTS, 3);
+        let tip = ball(Vec3::new(0.5, 0.0, 0.0), 0.1);
+        let wall = ball(Vec3::new(2.0, 0.0, 0.0), 0.399);
+        let base = k.home();
+        let pair = hulls(&k, (0, &wall), (2, &tip), &base);
+        let c = certify(&pair, 1e-6, 9, |_| false);
+        assert_eq!(c.status, Status::Budget);
+        assert!(
+            c.boxes <= 9 && c.cleared < 1.0 && c.lower_bound < 1e-6,
+            "{c:?}"
+        );
+    }
+
+    /// Random configurations inside random sub-boxes are never closer than the box's bound, on a chain
+    /// with revolute, prismatic, continuous and mimic joints and boxes far off every axis.
+    #[test]
+    fn the_bound_is_sound() {
+        let joints = r#"
+            <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+              <origin xyz="0.1 0.2 0.3" rpy="0.3 -0.2 0.5"/><axis xyz="0 1 0"/>
+              <limit lower="-2" upper="2.5" effort="1" velocity="1"/></joint>
+            <joint name="j2" type="prismatic"><parent link="l1"/><child link="l2"/>
+              <origin xyz="0.4 0 0.1"/><axis xyz="0.6 0 0.8"/>
+              <limit lower="-0.2" upper="0.3" effort="1" velocity="1"/></joint>
+            <joint name="j3" type="continuous"><parent link="l2"/><child link="l3"/>
+              <origin xyz="0 0.3 0" rpy="1 0 0"/><axis xyz="1 0 0"/></joint>
+            <joint name="j4" type="revolute"><parent link="l3"/><child link="l4"/>
+              <origin xyz="0.2 0 0.2"/><axis xyz="0 0 1"/>
+              <mimic joint="j1" multiplier="-1.7" offset="0.2"/>
+              <limit lower="-5" upper="5" effort="1" velocity="1"/></joint>
+            <joint name="j5" type="revolute"><parent link="base"/><child link="l5"/>
+              <origin xyz="-0.3 0 0"/><axis xyz="0 0 1"/>
+              <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>"#;
+        let k = robot(joints, 6);
+        let obb = |c: Vec3, r: Rotation, h: Vec3| {
+            CollisionShape::new(&Geometry::Obb(Obb {
+                center: c,
+                rotation: r,
+                half_extents: h,
+            }))
+            .unwrap()
+        };
+        let a = obb(
+            Vec3::new(0.3, -0.2, 0.4),
+            Rotation::from_rotation_y(0.7),
+            Vec3::new(0.1, 0.05, 0.2),
+        );
+        let b = obb(
+            Vec3::new(-0.5, 0.1, 0.2),
+            Rotation::from_rotation_z(0.4),
+            Vec3::new(0.05, 0.1, 0.15),
+        );
+        let base = k.home();
+        let pair = hulls(&k, (4, &a), (5, &b), &base);
+        let dofs = path_dofs(&pair);
+        assert_eq!(dofs.len(), 4, "j1 (and its mimic j4), j2, j3, j5");
+        let mut eval = Evaluator {
+            pair: &pair,
+            dofs: dofs.clone(),
+            q: base.clone(),
+            side_a: Vec::new(),
+            side_b: Vec::new(),
+            margin: 1e-6,
+            exact_queries: 0,
+        };
+        let mut rng = Rng::new(11, 0);
+        for _ in 0..300 {
+            let (center, half): (Vec<f64>, Vec<f64>) = dofs
+                .iter()
+                .map(|&d| {
+                    let dof = &k.dofs()[d];
+                    let c = rng.range(dof.lower, dof.upper);
+                    (c, rng.range(0.0, 0.5) * rng.unit())
+                })
+                .unzip();
+            let bound = eval.evaluate(&center, &half).lower;
+            for _ in 0..50 {
+                let mut q = base.clone();
+                for (i, &d) in dofs.iter().enumerate() {
+                    q[d] = center[i] + half[i] * rng.range(-1.0, 1.0);
+                }
+                let (pa, pb) = k.pair_poses(&q, 4, 5);
+                let d = signed_distance(&a, &a.pose(&pa), &b, &b.pose(&pb));
+                assert!(
+                    d >= bound - 1e-9,
+                    "distance {d} below the bound {bound} at {q:?}"
+                );
+            }
+            // And it converges: over a tiny box the bound is the centre's distance, so branch and
+            // bound ends wherever the hulls are apart.
+            let tiny = vec![1e-7; dofs.len()];
+            let e = eval.evaluate(&center, &tiny);
+            assert!(e.distance - e.lower < 1e-5, "{} vs {}", e.distance, e.lower);
+        }
+    }
+
+    /// Over a box where one joint tilts the axis of another that spins a ball far off it, random
+    /// configurations never come closer than the bound (which counts motion along the separating
+    /// direction only).
+    #[test]
+    fn the_bound_holds_under_tilted_axes() {
+        let joints = r#"
+            <joint name="tilt" type="revolute"><parent link="base"/><child link="l1"/>
+              <axis xyz="1 0 0"/><limit lower="-0.6" upper="0.6" effort="1" velocity="1"/></joint>
+            <joint name="spin" type="revolute"><parent link="l1"/><child link="l2"/>
+              <axis xyz="0 0 1"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>"#;
+        let k = robot(joints, 3);
+        // A ball on l2 0.5 m off the spin axis; a ball on the base straight above the spin axis.
+        let arm = ball(Vec3::new(0.0, 0.5, 0.0), 0.05);
+        let top = ball(Vec3::new(0.0, 0.0, 1.0), 0.05);
+        let base = k.home();
+        let pair = hulls(&k, (0, &top), (2, &arm), &base);
+        let mut eval = Evaluator {
+            pair: &pair,
+            dofs: vec![0, 1],
+            q: base.clone(),
+            side_a: Vec::new(),
+            side_b: Vec::new(),
+            margin: 1e-6,
+            exact_queries: 0,
+        };
+        let (center, half) = ([0.0, 0.0], [0.6, 1.5]);
+        let bound = eval.evaluate(&center, &half).lower;
+        let mut rng = Rng::new(3, 0);
+        for _ in 0..2000 {
+            let q = [rng.range(-0.6, 0.6), rng.range(-1.5, 1.5)];
+            let (pa, pb) = k.pair_poses(&q, 0, 2);
+            let d = signed_distance(&top, &top.pose(&pa), &arm, &arm.pose(&pb));
+            assert!(
+                d >= bound - 1e-9,
+                "distance {d} below the bound {bound} at {q:?}"
+            );
+        }
+    }
+
+    /// Hulls that overlap where the geometry inside them does not: the hulls alone stop, the exact
+    /// geometry's distance certifies.
+    #[test]
+    fn the_exact_geometry_certifies_where_the_hulls_touch() {
+        let k = robot(ONE_JOINT, 2);
+        // Hull balls of radius 0.5 and 0.6 reach each other (1 + 0.5 + 0.6 > 2); the geometry inside,
+        // balls of radius 0.1 and 0.5, stays 0.4 m apart.
+        let (moving, fixed) = (
+            ball(Vec3::new(1.0, 0.0, 0.0), 0.5),
+            ball(Vec3::new(2.0, 0.0, 0.0), 0.6),
+        );
+        let (inner_moving, inner_fixed) = (
+            ball(Vec3::new(1.0, 0.0, 0.0), 0.1),
+            ball(Vec3::new(2.0, 0.0, 0.0), 0.5),
+        );
+        let exact = |pa: &Pose, pb: &Pose| {
+            signed_distance(
+                &inner_fixed,
+                &inner_fixed.pose(pa),
+                &inner_moving,
+                &inner_moving.pose(pb),
+            )
+            .max(0.0)
+        };
+        let base = k.home();
+        let mut pair = hulls(&k, (0, &fixed), (1, &moving), &base);
+        let hulls = certify(&pair, 1e-6, 100_000, |_| false);
+        assert_eq!(hulls.status, Status::HullsTouch, "{hulls:?}");
+        pair.exact = Some((&exact, 2_000));
+        let c = certify(&pair, 1e-6, 100_000, |_| false);
+        assert_eq!(c.status, Status::Certified, "{c:?}");
+        assert!(
+            c.exact_queries > 0 && c.lower_bound > 0.0 && c.lower_bound <= 0.4,
+            "{c:?}"
+        );
+        // With too few exact distances the budget runs out instead.
+        pair.exact = Some((&exact, 1));
+        assert_eq!(
+            certify(&pair, 1e-6, 1_000, |_| false).status,
+            Status::Budget
+        );
+    }
+}
