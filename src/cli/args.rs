@@ -270,7 +270,7 @@ pub struct SamplingArgs {
     pub certify_total: u64,
     /// Most exact-geometry distances the certificate of one pair computes where its hulls overlap but
     /// its geometry does not (0: hulls only).
-    #[arg(long, default_value_t = 2_000, value_parser = clap::value_parser!(u64).range(0..=1_000_000_000))]
+    #[arg(long, default_value_t = 500, value_parser = clap::value_parser!(u64).range(0..=1_000_000_000))]
     pub certify_exact: u64,
 }
 

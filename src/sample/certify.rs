@@ -44,7 +44,7 @@ impl Default for CertifyParams {
             max_boxes_per_pair: 100_000,
             max_boxes: 20_000_000,
             margin: 1e-6,
-            max_exact_per_pair: 2_000,
+            max_exact_per_pair: 500,
         }
     }
 }

@@ -34,8 +34,9 @@ use std::collections::{BTreeMap, HashMap};
 /// The `mesh` type's file in the sample folder.
 pub const MESH_FILE: &str = "mesh.json";
 
-/// Pairs certified side by side; each batch shares what is left of the run's box budget equally, so
-/// the result does not depend on the thread count.
+/// Pairs certified side by side when the run's box budget could run out: each batch shares what is
+/// left of it equally, so the result does not depend on the thread count. When every pair can have its
+/// whole per-pair budget, all pairs form one batch (no batch waits for its slowest pair).
 const BATCH: usize = 64;
 
 /// Whether a `never` verdict is proved or only sampled.
@@ -210,7 +211,10 @@ pub(super) fn mesh_verdicts(
         .collect();
     progress.start("certifying never", todo.len() as u64);
     let mut spent = 0u64;
-    for batch in todo.chunks(BATCH) {
+    let binding = opts.certify.max_boxes
+        < (todo.len() as u64).saturating_mul(opts.certify.max_boxes_per_pair);
+    let batch_len = if binding { BATCH } else { todo.len().max(1) };
+    for batch in todo.chunks(batch_len) {
         let left = opts.certify.max_boxes.saturating_sub(spent);
         let budget = opts
             .certify
