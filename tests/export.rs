@@ -317,3 +317,56 @@ fn drake_filter_groups_load_in_drake_and_filter_exactly_the_exported_pairs() {
         assert_eq!(json_pairs(&v["with"]), expected, "{name}");
     }
 }
+
+/// With a certificate budget too small to prove anything, every `never` is only sampled: the files say
+/// so per pair, and `--require-certified` keeps those pairs checked.
+#[test]
+fn require_certified_keeps_sampled_nevers_checked() {
+    let dir = common::preprocessed(&demo_urdf(), "export-uncertified");
+    let o = scm_str(&[
+        "sample",
+        dir.to_str().unwrap(),
+        "-n",
+        "500",
+        "--types",
+        "hull",
+        "--certify-boxes",
+        "1",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let export_with = |extra: &[&str], out: &str| -> (serde_json::Value, String) {
+        let out = scratch(out);
+        let mut args = vec![
+            "export",
+            dir.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--format",
+            "srdf",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let o = scm_str(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let srdf = read(&out.join("demo_arm.srdf"));
+        (serde_json::from_slice(&o.stdout).unwrap(), srdf)
+    };
+    let (plain, srdf) = export_with(&[], "uncertified-plain");
+    let sampled_nevers = plain["link_reasons"]["never-sampled"].as_u64().unwrap();
+    assert!(sampled_nevers > 0, "{plain}");
+    assert_eq!(
+        srdf.matches("<!-- mesh, sampled -->").count() as u64,
+        sampled_nevers
+    );
+    let (strict, srdf) = export_with(&["--require-certified"], "uncertified-strict");
+    assert_eq!(
+        strict["link_reasons"]["never-kept-checked"].as_u64(),
+        Some(sampled_nevers)
+    );
+    assert_eq!(
+        strict["link_pairs"][0].as_u64().unwrap() + sampled_nevers,
+        plain["link_pairs"][0].as_u64().unwrap()
+    );
+    assert!(!srdf.contains("sampled -->"), "{srdf}");
+}

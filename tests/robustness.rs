@@ -252,11 +252,24 @@ fn absurd_sample_and_thread_counts_are_bad_input_with_the_range() {
         ("--samples", "1000000000000", "1..=1000000000"),
         ("--threads", "100000", "1..=1024"),
         ("--threads", "0", "1..=1024"),
+        ("--certify-boxes", "0", "1..=1000000000"),
+        ("--certify-total", "0", "1..=100000000000"),
+        ("--certify-exact", "many", "invalid value"),
     ] {
         let o = common::scm_str(&["sample", s(&dir), flag, value]);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{flag} {value}: {err}");
         assert!(err.contains(flag) && err.contains(range), "{err}");
+    }
+    // An unknown link level names the valid ones, for export and diff.
+    for (command, flag) in [("export", "--link-type"), ("diff", "--type")] {
+        let o = common::scm_str(&[command, s(&dir), flag, "cylinder"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{command}: {err}");
+        assert!(
+            err.contains("unknown link level \"cylinder\" (mesh, or a shape type: sphere"),
+            "{err}"
+        );
     }
 }
 
