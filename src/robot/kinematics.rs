@@ -222,6 +222,25 @@ impl Kinematics {
         (pose(&ca[common..]), pose(&cb[common..]))
     }
 
+    /// The DOFs that drive a joint on the tree path between links `a` and `b` (a mimic joint through its
+    /// leader), ascending: the only ones that can change the pair's relative pose.
+    pub fn path_dofs(&self, a: usize, b: usize) -> Vec<usize> {
+        let (ca, cb) = (&self.chains[a], &self.chains[b]);
+        let common = ca.iter().zip(cb).take_while(|(x, y)| x == y).count();
+        let mut dofs: Vec<usize> = ca[common..]
+            .iter()
+            .chain(&cb[common..])
+            .filter_map(|&i| match self.steps[i].value {
+                Value::Dof(d) => Some(d),
+                Value::Mimic { dof, .. } => dof,
+                Value::Fixed => None,
+            })
+            .collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        dofs
+    }
+
     /// Poses of links `a` and `b` at configuration `q` in the frame of their nearest common ancestor
     /// (as [`Kinematics::pair_poses`]), writing into `side_a` and `side_b` the moving joints of each
     /// side's chain, from the ancestor down, placed at `q` in that frame.

@@ -45,15 +45,7 @@ pub struct SearchOutcome {
 
 /// DOF indices whose joints lie between the pair's links (mimic joints count through their leader).
 pub fn path_dofs(engine: &Engine, link_a: usize, link_b: usize) -> Vec<usize> {
-    let mut dofs: Vec<usize> = engine
-        .robot
-        .path_joints(link_a, link_b)
-        .into_iter()
-        .filter_map(|j| joint_dof(engine, j))
-        .collect();
-    dofs.sort_unstable();
-    dofs.dedup();
-    dofs
+    engine.kinematics.path_dofs(link_a, link_b)
 }
 
 /// The DOF that moves joint `joint` (its own, or its leader's for a mimic joint), if it moves.
