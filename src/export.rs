@@ -2,8 +2,10 @@
 //! six matrix files and as the files MoveIt, MuJoCo, cuRobo, Drake and the paper's tool load.
 
 use crate::error::{Error, Result};
-use crate::formats::{curobo, drake, matrices::MatrixFile, mjcf, paper, srdf};
-use crate::matrix::{IMPORTED_FILE, LAYERS, LinkPair, SkipMatrix, USER_FILE, consumer_link_pairs};
+use crate::formats::{curobo, drake, matrices::MatrixFile, mjcf, paper, srdf, svg};
+use crate::matrix::{
+    HeatMap, IMPORTED_FILE, LAYERS, LinkPair, SkipMatrix, USER_FILE, consumer_link_pairs,
+};
 use crate::progress::Progress;
 use crate::sample::{NeverEvidence, SAMPLE, load_mesh_file};
 use crate::shapes::ShapeType;
@@ -31,18 +33,21 @@ pub enum Format {
     Curobo,
     /// Drake collision filter groups.
     Drake,
+    /// SVG heat maps: one per sampled type and one of the exported link pairs.
+    Svg,
     /// The paper's URDD modules.
     Paper,
 }
 
 impl Format {
     /// Every format, in output order.
-    pub const ALL: [Format; 6] = [
+    pub const ALL: [Format; 7] = [
         Format::Matrices,
         Format::Srdf,
         Format::Mjcf,
         Format::Curobo,
         Format::Drake,
+        Format::Svg,
         Format::Paper,
     ];
 
@@ -54,6 +59,7 @@ impl Format {
             Format::Mjcf => "mjcf",
             Format::Curobo => "curobo",
             Format::Drake => "drake",
+            Format::Svg => "svg",
             Format::Paper => "paper",
         }
     }
@@ -312,6 +318,27 @@ pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportRep
                 format!("{robot_name}.drake-filters.xml"),
                 drake::write_drake(&comment, &links, &link_pairs).into_bytes(),
             )?,
+            Format::Svg => {
+                let order = robot.robot.kinematic_link_names();
+                for m in &matrices {
+                    let map = HeatMap::of_type(m, &order);
+                    write(
+                        format!("heatmaps/{}.svg", m.shape_type),
+                        svg::write_svg(&map).into_bytes(),
+                    )?;
+                }
+                let title = match opts.link_type {
+                    LinkLevel::Mesh => "link pairs in the exported files (decided on mesh)".into(),
+                    LinkLevel::Type(t) => {
+                        format!("link pairs in the exported files (decided on {t})")
+                    }
+                };
+                let map = HeatMap::of_link_pairs(title, &link_pairs, link_matrix, &order);
+                write(
+                    "heatmaps/links.svg".into(),
+                    svg::write_svg(&map).into_bytes(),
+                )?;
+            }
             Format::Paper if matrices.len() == ShapeType::ALL.len() => {
                 write_paper_modules(&matrices, &mut write)?
             }

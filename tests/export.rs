@@ -40,6 +40,62 @@ fn demo_exports_snapshot() {
     insta::assert_snapshot!("demo_mjcf", read(&out.join("demo_arm.mjcf-excludes.xml")));
     insta::assert_snapshot!("demo_curobo", read(&out.join("demo_arm.curobo.yml")));
     insta::assert_snapshot!("demo_drake", read(&out.join("demo_arm.drake-filters.xml")));
+    insta::assert_snapshot!(
+        "demo_heatmap_links_svg",
+        read(&out.join("heatmaps/links.svg"))
+    );
+    insta::assert_snapshot!(
+        "demo_heatmap_decomp_hull_svg",
+        read(&out.join("heatmaps/decomp-hull.svg"))
+    );
+}
+
+/// The pairs an SVG heat map draws as skipped, from the cells' hover text (`a - b: skip: ...`),
+/// sorted by name within each pair, and how many cells it draws.
+fn svg_skipped_pairs(text: &str) -> (BTreeSet<(String, String)>, usize) {
+    let mut skipped = BTreeSet::new();
+    let mut cells = 0;
+    for title in text.split("<title>").skip(1) {
+        let title = title.split("</title>").next().unwrap_or_default();
+        let (pair, verdict) = title.split_once(": ").expect("pair: verdict");
+        let (a, b) = pair.split_once(" - ").expect("a - b");
+        cells += 1;
+        if verdict.starts_with("skip") {
+            let (a, b) = (a.to_string(), b.to_string());
+            skipped.insert(if a <= b { (a, b) } else { (b, a) });
+        }
+    }
+    (skipped, cells)
+}
+
+#[test]
+fn svg_heat_maps_draw_the_exported_verdicts_for_every_type() {
+    let dir = demo();
+    let out = dir.join(EXPORT);
+    // The link-level map shows exactly the SRDF's disabled pairs as skips, each pair on both sides
+    // of the diagonal.
+    let srdf = srdf_pairs(&read(&out.join("demo_arm.srdf")));
+    let (skipped, cells) = svg_skipped_pairs(&read(&out.join("heatmaps/links.svg")));
+    assert_eq!(skipped, srdf);
+    let urdd = Urdd::open(dir).unwrap();
+    let hull = SkipMatrix::load(&urdd, ShapeType::Hull).unwrap();
+    assert_eq!(cells, 2 * hull.link_pairs().len());
+    assert!(read(&out.join("heatmaps/links.svg")).contains("never, certified"));
+    // One map per sampled type, its skips the type's link-level skips.
+    for t in ShapeType::ALL {
+        let m = SkipMatrix::load(&urdd, t).unwrap();
+        let (skipped, _) = svg_skipped_pairs(&read(&out.join(format!("heatmaps/{t}.svg"))));
+        let expected: BTreeSet<(String, String)> = m
+            .link_pairs()
+            .into_iter()
+            .filter(|p| p.entry.skip)
+            .map(|p| {
+                let (a, b) = (p.link1, p.link2);
+                if a <= b { (a, b) } else { (b, a) }
+            })
+            .collect();
+        assert_eq!(skipped, expected, "{t}");
+    }
 }
 
 #[test]

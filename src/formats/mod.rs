@@ -1,5 +1,5 @@
 //! File formats scm writes and reads, one module per format: the six matrix files, MoveIt SRDF,
-//! MuJoCo MJCF excludes, cuRobo, Drake, and the paper's URDD modules.
+//! MuJoCo MJCF excludes, cuRobo, Drake, SVG heat maps, and the paper's URDD modules.
 
 pub mod curobo;
 pub mod drake;
@@ -7,6 +7,7 @@ pub mod matrices;
 pub mod mjcf;
 pub mod paper;
 pub mod srdf;
+pub mod svg;
 
 use serde::Serialize;
 

@@ -4,10 +4,12 @@
 //! overrides a lower one for the pairs it names (user > imported > inferred), and sampling never
 //! rewrites the imported or user layers.
 
+mod heatmap;
 mod imported;
 mod links;
 mod user;
 
+pub use heatmap::{Cell, HeatMap, SHADE_RANGE, Verdict};
 pub use imported::{IMPORTED_FILE, ImportedLayer, ImportedLookup, ImportedPair};
 pub use links::{LinkPair, consumer_link_pairs};
 pub use user::{USER_FILE, UserEdit, UserLayer};

@@ -1,4 +1,4 @@
-//! Paths in the kinematic tree: which joints lie between two links.
+//! Paths in the kinematic tree: which joints lie between two links, and the links in tree order.
 
 use super::Robot;
 
@@ -24,6 +24,30 @@ impl Robot {
         }
         pa.extend(pb);
         pa
+    }
+
+    /// Every link index in kinematic order: depth first from the root, a link's children in the order
+    /// of their joints in the document (so a chain reads base to tip and each branch stays together).
+    pub fn kinematic_order(&self) -> Vec<usize> {
+        let mut children: Vec<Vec<usize>> = vec![Vec::new(); self.links.len()];
+        for j in &self.joints {
+            children[j.parent].push(j.child);
+        }
+        let mut order = Vec::with_capacity(self.links.len());
+        let mut stack = vec![self.root];
+        while let Some(link) = stack.pop() {
+            order.push(link);
+            stack.extend(children[link].iter().rev());
+        }
+        order
+    }
+
+    /// The link names in [`Robot::kinematic_order`]: the axes of a matrix picture.
+    pub fn kinematic_link_names(&self) -> Vec<String> {
+        self.kinematic_order()
+            .into_iter()
+            .map(|i| self.links[i].name.clone())
+            .collect()
     }
 
     /// Whether any joint between links `a` and `b` moves (actuated, including mimics).
