@@ -4,12 +4,17 @@ use crate::error::{Error, Result};
 use crate::export::LinkLevel;
 use crate::formats::srdf::parse_srdf;
 use crate::matrix::{
-    ImportedLayer, LinkPair, SkipMatrix, UserLayer, consumer_link_pairs, load_sample,
+    ImportedLayer, Layer, LinkPair, SkipMatrix, UserLayer, consumer_link_pairs, load_sample,
 };
-use crate::sample::{MeshFile, PairRecord, Status, load_mesh_file};
+use crate::query::{Scratch, SelfChecker, SkipMode};
+use crate::robot::{Kinematics, Robot};
+use crate::sample::{
+    LinkPairRecord, PairRecord, Reason, SAMPLE, SearchOutcome, Status, load_mesh_file,
+    sample_file_name,
+};
 use crate::shapes::ShapeType;
 use crate::urdd::Urdd;
-use serde::Serialize;
+use serde::{Serialize, Serializer};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -24,6 +29,51 @@ pub struct CompareOptions {
     pub link_level: LinkLevel,
 }
 
+/// What the configuration behind scm's verdict on a pair is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum WitnessKind {
+    /// Where the exact geometry overlaps: the configuration that made scm check the pair.
+    ExactOverlap,
+    /// The home configuration, where the geometry touches (a `default` verdict).
+    Home,
+    /// A collision the targeted search found where sampling found none.
+    SearchCollision,
+    /// The closest approach of the link hulls the certificate search found.
+    CertificateClosest,
+    /// Where the sampled `d_min` was reached.
+    ClosestSampled,
+}
+
+impl WitnessKind {
+    /// The label used in the report and the JSON.
+    pub fn label(self) -> &'static str {
+        match self {
+            WitnessKind::ExactOverlap => "exact geometry overlaps",
+            WitnessKind::Home => "touches at home",
+            WitnessKind::SearchCollision => "collision found by the search",
+            WitnessKind::CertificateClosest => "closest found by the certificate",
+            WitnessKind::ClosestSampled => "closest sampled",
+        }
+    }
+}
+
+impl Serialize for WitnessKind {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.label())
+    }
+}
+
+/// The two links' signed distance at the witness configuration, and the geometry it was measured on.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct WitnessDistance {
+    /// Signed distance (m): negative is the penetration depth of the deepest shape pair between the
+    /// two links.
+    pub distance: f64,
+    /// The shape type measured: the compared type, or for `mesh` the convex pieces the URDD has
+    /// (`decomp-hull` when sampled, else `hull`); never the mesh itself.
+    pub geometry: String,
+}
+
 /// One link pair on which scm and MoveIt disagree, with scm's evidence.
 #[derive(Debug, Clone, Serialize)]
 pub struct Disagreement {
@@ -35,7 +85,7 @@ pub struct Disagreement {
     pub moveit: String,
     /// scm's reason (`checked` when it keeps checking).
     pub scm: String,
-    /// Smallest signed distance scm saw between the two links (m).
+    /// Smallest signed distance scm sampled between the two links (m), on [`Comparison::statistics`].
     pub d_min: f64,
     /// Largest fraction of samples in collision over the links' shape pairs.
     pub collision_fraction: f64,
@@ -47,11 +97,16 @@ pub struct Disagreement {
     /// The certificate's proved lower bound on the hulls' distance (m), where one was searched.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lower_bound: Option<f64>,
-    /// What `witness` is: `exact geometry overlaps` (the configuration that made scm check the pair),
-    /// `closest found by the certificate`, or `closest sampled` (where `d_min` was reached).
-    pub witness_kind: String,
-    /// The configuration that decided scm's verdict, by joint name.
+    /// What `witness` is.
+    pub witness_kind: WitnessKind,
+    /// The configuration that decided scm's verdict: every DOF, by joint name.
     pub witness: Vec<(String, f64)>,
+    /// The DOFs on the tree path between the two links: the only ones that move them relative to
+    /// each other (a mimic joint counts through its leader).
+    pub path_joints: Vec<String>,
+    /// Where the witness is a collision: how deep, measured on convex shapes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub witness_distance: Option<WitnessDistance>,
 }
 
 /// The two lists of `scm diff`.
@@ -61,6 +116,8 @@ pub struct Comparison {
     pub moveit_source: String,
     /// The geometry standing for scm (`mesh` or a shape type).
     pub link_level: String,
+    /// The shape type whose sampling statistics `d_min` and `collision_fraction` come from.
+    pub statistics: String,
     /// Link pairs compared.
     pub link_pairs: usize,
     /// Pairs MoveIt disables that scm keeps checking: evidence that MoveIt's skip was wrong.
@@ -69,50 +126,20 @@ pub struct Comparison {
     pub scm_skips_moveit_checks: Vec<Disagreement>,
 }
 
+/// Which joints the human report prints of each witness.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WitnessJoints {
+    /// Only the joints on the path between the two links.
+    Path,
+    /// Every DOF of the robot.
+    All,
+}
+
 /// Compares scm's inferred (and user) verdicts with MoveIt's.
 pub fn compare(opts: &CompareOptions) -> Result<Comparison> {
     let urdd = Urdd::open(&opts.urdd)?;
-    let (moveit, source) = match &opts.srdf {
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| Error::input(path, "file", format!("cannot read: {e}")))?;
-            let srdf = parse_srdf(&text, path)?;
-            let mut layer =
-                ImportedLayer::new(path.display().to_string(), String::new(), srdf.robot);
-            for (p, skip) in srdf
-                .disabled
-                .iter()
-                .map(|p| (p, true))
-                .chain(srdf.enabled.iter().map(|p| (p, false)))
-            {
-                layer.pairs.push(crate::matrix::ImportedPair {
-                    link1: p.link1.clone(),
-                    link2: p.link2.clone(),
-                    skip,
-                    reason: if skip {
-                        p.reason.clone().unwrap_or_default()
-                    } else {
-                        "enabled".into()
-                    },
-                });
-            }
-            layer.default_disabled = srdf.default_disabled.into_iter().map(|(l, _)| l).collect();
-            (layer, path.display().to_string())
-        }
-        None => {
-            let layer = ImportedLayer::load(&urdd)?.ok_or_else(|| {
-                Error::input(
-                    &opts.urdd,
-                    "layers/imported.json",
-                    "no MoveIt SRDF imported; run `scm import-moveit ROBOT.srdf DIR` or pass --srdf",
-                )
-            })?;
-            let source = layer.source.clone();
-            (layer, source)
-        }
-    };
-    let robot = urdd.robot()?;
-    let dof_names: Vec<String> = robot.dofs.iter().map(|d| d.name.clone()).collect();
+    let (moveit, source) = moveit_layer(&urdd, opts)?;
+    let robot = urdd.robot()?.robot;
     // The statistics come from the link hull (or the chosen type); the verdicts from the level.
     let stats_type = match opts.link_level {
         LinkLevel::Type(t) => t,
@@ -121,7 +148,6 @@ pub fn compare(opts: &CompareOptions) -> Result<Comparison> {
     let shapes = urdd.shapes(stats_type)?.shapes;
     let sample = load_sample(&urdd, stats_type)?;
     let scm = SkipMatrix::resolve(shapes, sample, None, &UserLayer::load(&urdd)?)?;
-    let evidence = link_evidence(&scm);
     let mesh = match opts.link_level {
         LinkLevel::Mesh => Some(load_mesh_file(&urdd)?.ok_or_else(|| {
             Error::input(
@@ -137,10 +163,19 @@ pub fn compare(opts: &CompareOptions) -> Result<Comparison> {
         None => scm.link_pairs(),
     };
     let lookup = moveit.lookup();
+    let mut judge = Judge {
+        urdd: &urdd,
+        kinematics: Kinematics::new(&robot),
+        robot: &robot,
+        evidence: link_evidence(&scm),
+        stats_type,
+        probe: None,
+    };
 
     let mut out = Comparison {
         moveit_source: source,
         link_level: opts.link_level.id().into(),
+        statistics: stats_type.id().into(),
         link_pairs: 0,
         moveit_skips_scm_checks: Vec::new(),
         scm_skips_moveit_checks: Vec::new(),
@@ -156,7 +191,8 @@ pub fn compare(opts: &CompareOptions) -> Result<Comparison> {
             Some((true, reason)) => reason.to_string(),
             _ => "checked".into(),
         };
-        let d = disagreement(&pair, moveit_reason, &evidence, mesh.as_ref(), &dof_names);
+        let exact = mesh.as_ref().and_then(|m| m.pair(&pair.link1, &pair.link2));
+        let d = judge.disagreement(&pair, moveit_reason, exact)?;
         if moveit_skips {
             out.moveit_skips_scm_checks.push(d);
         } else {
@@ -166,60 +202,297 @@ pub fn compare(opts: &CompareOptions) -> Result<Comparison> {
     Ok(out)
 }
 
-/// Per link pair (by link index), the shape pair with the smallest d_min and the largest collision
-/// fraction.
-fn link_evidence(m: &SkipMatrix) -> HashMap<(String, String), (&PairRecord, f64)> {
-    let mut out: HashMap<(String, String), (&PairRecord, f64)> = HashMap::new();
+/// MoveIt's verdicts: the SRDF given, else the URDD's imported layer; and where they came from.
+fn moveit_layer(urdd: &Urdd, opts: &CompareOptions) -> Result<(ImportedLayer, String)> {
+    let Some(path) = &opts.srdf else {
+        let layer = ImportedLayer::load(urdd)?.ok_or_else(|| {
+            Error::input(
+                &opts.urdd,
+                "layers/imported.json",
+                "no MoveIt SRDF imported; run `scm import-moveit ROBOT.srdf DIR` or pass --srdf",
+            )
+        })?;
+        let source = layer.source.clone();
+        return Ok((layer, source));
+    };
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::input(path, "file", format!("cannot read: {e}")))?;
+    let srdf = parse_srdf(&text, path)?;
+    let mut layer = ImportedLayer::new(path.display().to_string(), String::new(), srdf.robot);
+    for (p, skip) in srdf
+        .disabled
+        .iter()
+        .map(|p| (p, true))
+        .chain(srdf.enabled.iter().map(|p| (p, false)))
+    {
+        layer.pairs.push(crate::matrix::ImportedPair {
+            link1: p.link1.clone(),
+            link2: p.link2.clone(),
+            skip,
+            reason: if skip {
+                p.reason.clone().unwrap_or_default()
+            } else {
+                "enabled".into()
+            },
+        });
+    }
+    layer.default_disabled = srdf.default_disabled.into_iter().map(|(l, _)| l).collect();
+    Ok((layer, path.display().to_string()))
+}
+
+/// One link pair's sampling statistics over its shape pairs.
+#[derive(Debug, Clone, Copy)]
+struct LinkEvidence<'a> {
+    /// The shape pair with the smallest `d_min`.
+    closest: &'a PairRecord,
+    /// The largest collision fraction.
+    fraction: f64,
+    /// The smallest signed distance at home.
+    home: f64,
+    /// The deepest collision the targeted search found.
+    searched: Option<&'a SearchOutcome>,
+}
+
+/// Per link pair (by link names), the statistics of its shape pairs.
+fn link_evidence(m: &SkipMatrix) -> HashMap<(String, String), LinkEvidence<'_>> {
+    let mut out: HashMap<(String, String), LinkEvidence<'_>> = HashMap::new();
     for p in &m.stats {
         let (a, b) = (&m.shapes[p.a].link, &m.shapes[p.b].link);
         if a == b {
             continue;
         }
-        let e = out.entry((a.clone(), b.clone())).or_insert((p, 0.0));
-        if p.d_min < e.0.d_min {
-            e.0 = p;
+        let e = out.entry((a.clone(), b.clone())).or_insert(LinkEvidence {
+            closest: p,
+            fraction: 0.0,
+            home: f64::INFINITY,
+            searched: None,
+        });
+        if p.d_min < e.closest.d_min {
+            e.closest = p;
         }
-        e.1 = e.1.max(p.collision_fraction);
+        e.fraction = e.fraction.max(p.collision_fraction);
+        e.home = e.home.min(p.home_distance);
+        if let Some(s) = p.search.as_ref().filter(|s| s.collision)
+            && e.searched.is_none_or(|t| s.d_min < t.d_min)
+        {
+            e.searched = Some(s);
+        }
     }
     out
 }
 
-fn disagreement(
-    pair: &LinkPair,
-    moveit: String,
-    evidence: &HashMap<(String, String), (&PairRecord, f64)>,
-    mesh: Option<&MeshFile>,
-    dof_names: &[String],
-) -> Disagreement {
-    let (record, fraction) = evidence[&(pair.link1.clone(), pair.link2.clone())];
-    let exact = mesh.and_then(|m| m.pair(&pair.link1, &pair.link2));
-    let certificate = exact.and_then(|r| r.certificate.as_ref());
-    // The configuration behind scm's verdict: where the exact geometry overlaps, else the closest
-    // approach the certificate found, else the sampled minimum.
-    let (witness_kind, q) = match (exact.and_then(|r| r.witness.as_ref()), certificate) {
-        (Some(w), _) => ("exact geometry overlaps", &w.q),
-        (None, Some(c)) if c.status != Status::Collides => {
-            ("closest found by the certificate", &c.q)
+/// Whether (and on what) the two links collide at a witness configuration.
+enum Collision {
+    /// Not a collision (a closest approach).
+    No,
+    /// A collision of the compared type, of this signed distance.
+    Measured(f64),
+    /// The exact geometry overlaps: measured on convex shapes by a [`Probe`].
+    Exact,
+}
+
+/// What turns scm's verdict on a link pair into a [`Disagreement`].
+struct Judge<'a> {
+    urdd: &'a Urdd,
+    robot: &'a Robot,
+    kinematics: Kinematics,
+    evidence: HashMap<(String, String), LinkEvidence<'a>>,
+    stats_type: ShapeType,
+    /// Loaded at the first exact-geometry collision.
+    probe: Option<Probe>,
+}
+
+impl Judge<'_> {
+    fn disagreement(
+        &mut self,
+        pair: &LinkPair,
+        moveit: String,
+        exact: Option<&LinkPairRecord>,
+    ) -> Result<Disagreement> {
+        let key = (pair.link1.clone(), pair.link2.clone());
+        let ev = *self.evidence.get(&key).ok_or_else(|| {
+            Error::input(
+                self.urdd.dir(),
+                format!("link pair {} - {}", pair.link1, pair.link2),
+                format!("no {} statistics; rerun `scm sample`", self.stats_type),
+            )
+        })?;
+        let certificate = exact.and_then(|r| r.certificate.as_ref());
+        let (kind, q, collision) = self.witness(pair, &ev, exact);
+        let witness_distance = match collision {
+            Collision::No => None,
+            Collision::Measured(distance) => Some(WitnessDistance {
+                distance,
+                geometry: self.stats_type.id().into(),
+            }),
+            Collision::Exact => self.probe()?.distance(&q, &pair.link1, &pair.link2)?,
+        };
+        let dofs = self.kinematics.dofs();
+        let path = self
+            .kinematics
+            .path_dofs(self.link_index(&pair.link1)?, self.link_index(&pair.link2)?);
+        Ok(Disagreement {
+            link1: pair.link1.clone(),
+            link2: pair.link2.clone(),
+            moveit,
+            scm: pair.entry.reason.clone(),
+            d_min: ev.closest.d_min,
+            collision_fraction: ev.fraction,
+            geometry: pair.geometry.clone(),
+            evidence: pair.evidence.map(|e| e.id().to_string()),
+            lower_bound: certificate.map(|c| c.lower_bound),
+            witness_kind: kind,
+            witness: dofs.iter().map(|d| d.name.clone()).zip(q).collect(),
+            path_joints: path.iter().map(|&i| dofs[i].name.clone()).collect(),
+            witness_distance,
+        })
+    }
+
+    /// The configuration behind scm's verdict and whether the links collide there. On the exact
+    /// geometry: home for a `default`, else where it overlaps, else the certificate's closest approach,
+    /// else the sampled minimum. On a type: home for a `default` that collides there, else the sampled
+    /// minimum when it collides, else the search's collision, else the sampled minimum.
+    fn witness(
+        &self,
+        pair: &LinkPair,
+        ev: &LinkEvidence<'_>,
+        exact: Option<&LinkPairRecord>,
+    ) -> (WitnessKind, Vec<f64>, Collision) {
+        let sampled = || {
+            let d = ev.closest.d_min;
+            let collision = if exact.is_none() && d < 0.0 {
+                Collision::Measured(d)
+            } else {
+                Collision::No
+            };
+            (
+                WitnessKind::ClosestSampled,
+                ev.closest.witness.q.clone(),
+                collision,
+            )
+        };
+        match exact {
+            Some(r) if r.reason == Reason::Default => {
+                (WitnessKind::Home, self.kinematics.home(), Collision::Exact)
+            }
+            Some(r) => match (&r.witness, &r.certificate) {
+                (Some(w), _) => (WitnessKind::ExactOverlap, w.q.clone(), Collision::Exact),
+                (None, Some(c)) if c.status != Status::Collides => {
+                    (WitnessKind::CertificateClosest, c.q.clone(), Collision::No)
+                }
+                _ => sampled(),
+            },
+            None => {
+                let default = pair.entry.layer == Layer::Inferred
+                    && pair.entry.reason == Reason::Default.id();
+                if default && ev.home < 0.0 {
+                    (
+                        WitnessKind::Home,
+                        self.kinematics.home(),
+                        Collision::Measured(ev.home),
+                    )
+                } else if ev.closest.d_min >= 0.0
+                    && let Some(s) = ev.searched
+                {
+                    (
+                        WitnessKind::SearchCollision,
+                        s.q.clone(),
+                        Collision::Measured(s.d_min),
+                    )
+                } else {
+                    sampled()
+                }
+            }
         }
-        _ => ("closest sampled", &record.witness.q),
-    };
-    Disagreement {
-        link1: pair.link1.clone(),
-        link2: pair.link2.clone(),
-        moveit,
-        scm: pair.entry.reason.clone(),
-        d_min: record.d_min,
-        collision_fraction: fraction,
-        geometry: pair.geometry.clone(),
-        evidence: pair.evidence.map(|e| e.id().to_string()),
-        lower_bound: certificate.map(|c| c.lower_bound),
-        witness_kind: witness_kind.into(),
-        witness: dof_names.iter().cloned().zip(q.iter().copied()).collect(),
+    }
+
+    fn link_index(&self, link: &str) -> Result<usize> {
+        self.robot.link_index(link).ok_or_else(|| {
+            Error::input(
+                self.urdd.dir(),
+                format!("link \"{link}\""),
+                "in the sample output but not in the robot; rerun `scm sample`",
+            )
+        })
+    }
+
+    fn probe(&mut self) -> Result<&mut Probe> {
+        let probe = match self.probe.take() {
+            Some(p) => p,
+            None => Probe::load(self.urdd)?,
+        };
+        Ok(self.probe.insert(probe))
     }
 }
 
-/// The human-readable report.
+/// Measures two links' signed distance on the convex shapes of one type the URDD has.
+struct Probe {
+    checker: SelfChecker,
+    scratch: Scratch,
+    /// Per link name, its shapes' indices.
+    pieces: HashMap<String, Vec<usize>>,
+}
+
+impl Probe {
+    /// The decomposition's hulls when they were sampled (the closest convex stand-in for the mesh),
+    /// else the link hulls.
+    fn load(urdd: &Urdd) -> Result<Probe> {
+        let sampled = &urdd.fresh_stage(SAMPLE)?.outputs;
+        let t = if sampled.contains(&sample_file_name(ShapeType::DecompHull)) {
+            ShapeType::DecompHull
+        } else {
+            ShapeType::Hull
+        };
+        let checker = SelfChecker::load(urdd, t, SkipMode::NoSkips)?;
+        let mut pieces: HashMap<String, Vec<usize>> = HashMap::new();
+        for (i, s) in checker.shapes().iter().enumerate() {
+            pieces.entry(s.link.clone()).or_default().push(i);
+        }
+        Ok(Probe {
+            scratch: checker.scratch(),
+            checker,
+            pieces,
+        })
+    }
+
+    /// The smallest signed distance over the shape pairs between `a` and `b` at `q`; `None` when a
+    /// link has no shape of this type.
+    fn distance(&mut self, q: &[f64], a: &str, b: &str) -> Result<Option<WitnessDistance>> {
+        let (Some(pa), Some(pb)) = (self.pieces.get(a), self.pieces.get(b)) else {
+            return Ok(None);
+        };
+        let mut best = f64::INFINITY;
+        for &i in pa {
+            for &j in pb {
+                let (d, _) = self.checker.pair_distance(q, i, j, &mut self.scratch)?;
+                best = best.min(d);
+            }
+        }
+        Ok(Some(WitnessDistance {
+            distance: best,
+            geometry: self.checker.shape_type().id().into(),
+        }))
+    }
+}
+
+/// The human-readable report, each witness on the joints between its two links.
 pub fn format_comparison(c: &Comparison, urdd: &Path) -> String {
+    format_comparison_with(c, urdd, WitnessJoints::Path)
+}
+
+/// The human-readable report: the count of each kind of disagreement first, then the pairs under
+/// each kind, one line of evidence and one of witness `joints` per pair.
+pub fn format_comparison_with(c: &Comparison, urdd: &Path, joints: WitnessJoints) -> String {
+    let sections = [
+        (
+            "MoveIt skips, scm checks",
+            by_kind(&c.moveit_skips_scm_checks),
+        ),
+        (
+            "scm skips, MoveIt checks",
+            by_kind(&c.scm_skips_moveit_checks),
+        ),
+    ];
     let mut s = format!(
         "{}: scm ({}) against MoveIt ({}): {} link pairs\n",
         urdd.display(),
@@ -227,42 +500,166 @@ pub fn format_comparison(c: &Comparison, urdd: &Path) -> String {
         c.moveit_source,
         c.link_pairs
     );
-    let section = |s: &mut String, title: &str, list: &[Disagreement]| {
-        s.push_str(&format!("{title}: {}\n", list.len()));
-        for d in list {
-            let q: Vec<String> = d
-                .witness
-                .iter()
-                .map(|(n, v)| format!("{n}={v:.4}"))
-                .collect();
-            let evidence = match (&d.evidence, d.lower_bound) {
-                (Some(e), Some(lb)) => format!(" {e}, proved >= {lb:.4} m;"),
-                (Some(e), None) => format!(" {e};"),
-                _ => String::new(),
-            };
-            s.push_str(&format!(
-                "  {} - {}: MoveIt {}, scm {} (on {});{evidence} hull d_min {:.4} m, in collision {:.2}% of samples; {}: {}\n",
-                d.link1,
-                d.link2,
-                d.moveit,
-                d.scm,
-                d.geometry,
-                d.d_min,
-                100.0 * d.collision_fraction,
-                d.witness_kind,
-                q.join(" ")
-            ));
+    for (title, groups) in &sections {
+        let count: usize = groups.iter().map(|(_, list)| list.len()).sum();
+        s.push_str(&format!("{title}: {count}\n"));
+        for (kind, list) in groups {
+            s.push_str(&format!("  {kind}: {}\n", list.len()));
         }
-    };
-    section(
-        &mut s,
-        "MoveIt skips, scm checks",
-        &c.moveit_skips_scm_checks,
-    );
-    section(
-        &mut s,
-        "scm skips, MoveIt checks",
-        &c.scm_skips_moveit_checks,
-    );
+    }
+    for (title, groups) in &sections {
+        if groups.is_empty() {
+            continue;
+        }
+        s.push_str(&format!("\n{title}\n"));
+        for (kind, list) in groups {
+            s.push_str(&format!("  {kind}\n"));
+            for d in list {
+                s.push_str(&format!(
+                    "    {}\n      {}\n",
+                    evidence_line(d, &c.statistics),
+                    witness_line(d, joints)
+                ));
+            }
+        }
+    }
     s
+}
+
+/// The disagreements of one list by kind (MoveIt's verdict, scm's, the geometry that decided it and
+/// the witness's kind), the largest group first, pairs in list order within a group.
+fn by_kind(list: &[Disagreement]) -> Vec<(String, Vec<&Disagreement>)> {
+    let mut groups: Vec<(String, Vec<&Disagreement>)> = Vec::new();
+    for d in list {
+        let kind = format!(
+            "MoveIt {} -> scm {} on {} ({})",
+            d.moveit,
+            d.scm,
+            d.geometry,
+            d.witness_kind.label()
+        );
+        match groups.iter_mut().find(|(k, _)| *k == kind) {
+            Some((_, members)) => members.push(d),
+            None => groups.push((kind, vec![d])),
+        }
+    }
+    groups.sort_by(|a, b| b.1.len().cmp(&a.1.len()).then_with(|| a.0.cmp(&b.0)));
+    groups
+}
+
+/// The pair, the evidence of a `never`, the sampling statistics and the collision at the witness.
+fn evidence_line(d: &Disagreement, statistics: &str) -> String {
+    let evidence = match (&d.evidence, d.lower_bound) {
+        // A bound at or below zero proves no gap between the hulls: not written as "proved".
+        (Some(e), Some(lb)) if lb > 0.0 => format!("{e}, proved >= {lb:.4} m; "),
+        (Some(e), Some(lb)) => format!("{e}, hull lower bound {lb:.4} m; "),
+        (Some(e), None) => format!("{e}; "),
+        _ => String::new(),
+    };
+    let depth = match &d.witness_distance {
+        Some(w) if w.distance < 0.0 => {
+            format!(
+                "; at the witness {} penetrates {:.4} m",
+                w.geometry, -w.distance
+            )
+        }
+        Some(w) => format!(
+            "; at the witness {} is {:.4} m apart",
+            w.geometry, w.distance
+        ),
+        None => String::new(),
+    };
+    format!(
+        "{} - {}: {evidence}{statistics} d_min {:.4} m, in collision {:.2}% of samples{depth}",
+        d.link1,
+        d.link2,
+        d.d_min,
+        100.0 * d.collision_fraction
+    )
+}
+
+/// The witness configuration: the path joints' values, or every DOF's.
+fn witness_line(d: &Disagreement, joints: WitnessJoints) -> String {
+    let values: Vec<String> = match joints {
+        WitnessJoints::All => d
+            .witness
+            .iter()
+            .map(|(n, v)| format!("{n}={v:.4}"))
+            .collect(),
+        WitnessJoints::Path => d
+            .witness
+            .iter()
+            .filter(|(n, _)| d.path_joints.contains(n))
+            .map(|(n, v)| format!("{n}={v:.4}"))
+            .collect(),
+    };
+    match (joints, values.is_empty()) {
+        (WitnessJoints::Path, true) => "witness: no joint moves one link against the other".into(),
+        (WitnessJoints::Path, false) => format!("witness, path joints: {}", values.join(" ")),
+        (WitnessJoints::All, _) => format!("witness, all joints: {}", values.join(" ")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn disagreement(scm: &str, path: &[&str], distance: Option<f64>) -> Disagreement {
+        Disagreement {
+            link1: "a".into(),
+            link2: format!("b_{scm}"),
+            moveit: "Never".into(),
+            scm: scm.into(),
+            d_min: -0.01,
+            collision_fraction: 0.5,
+            geometry: "mesh".into(),
+            evidence: None,
+            lower_bound: None,
+            witness_kind: WitnessKind::ExactOverlap,
+            witness: vec![("j1".into(), 1.0), ("j2".into(), 2.0), ("j3".into(), 3.0)],
+            path_joints: path.iter().map(|s| s.to_string()).collect(),
+            witness_distance: distance.map(|distance| WitnessDistance {
+                distance,
+                geometry: "decomp-hull".into(),
+            }),
+        }
+    }
+
+    #[test]
+    fn report_counts_kinds_largest_first_then_lists_path_joints() {
+        let c = Comparison {
+            moveit_source: "x.srdf".into(),
+            link_level: "mesh".into(),
+            statistics: "hull".into(),
+            link_pairs: 3,
+            moveit_skips_scm_checks: vec![
+                disagreement("always", &[], Some(0.002)),
+                disagreement("checked", &["j2"], Some(-0.03)),
+                disagreement("checked", &["j1", "j3"], None),
+            ],
+            scm_skips_moveit_checks: Vec::new(),
+        };
+        let text = format_comparison(&c, Path::new("d"));
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[1], "MoveIt skips, scm checks: 3");
+        assert_eq!(
+            lines[2],
+            "  MoveIt Never -> scm checked on mesh (exact geometry overlaps): 2"
+        );
+        assert_eq!(
+            lines[3],
+            "  MoveIt Never -> scm always on mesh (exact geometry overlaps): 1"
+        );
+        assert_eq!(lines[4], "scm skips, MoveIt checks: 0");
+        assert!(lines[8].ends_with("at the witness decomp-hull penetrates 0.0300 m"));
+        assert_eq!(lines[9], "      witness, path joints: j2=2.0000");
+        assert_eq!(lines[11], "      witness, path joints: j1=1.0000 j3=3.0000");
+        assert!(lines[13].ends_with("at the witness decomp-hull is 0.0020 m apart"));
+        assert_eq!(
+            lines[14],
+            "      witness: no joint moves one link against the other"
+        );
+        let full = format_comparison_with(&c, Path::new("d"), WitnessJoints::All);
+        assert!(full.contains("      witness, all joints: j1=1.0000 j2=2.0000 j3=3.0000\n"));
+    }
 }

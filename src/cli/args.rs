@@ -121,7 +121,7 @@ pub struct ExportArgs {
 /// Flags of the export stage.
 #[derive(Debug, Args)]
 pub struct ExportFlags {
-    /// Formats to write (comma-separated): matrices, srdf, mjcf, curobo, drake, paper; default all.
+    /// Formats to write (comma-separated): matrices, srdf, mjcf, curobo, drake, svg, paper; default all.
     #[arg(long, value_delimiter = ',', value_parser = parse_format)]
     pub format: Vec<scm::export::Format>,
     /// The geometry the SRDF, MJCF, cuRobo and Drake files are decided on: mesh (the exact URDF
@@ -166,6 +166,10 @@ pub struct DiffArgs {
     /// The geometry standing for scm: mesh (the verdicts the exported files carry) or a shape type.
     #[arg(long = "type", default_value = "mesh", value_parser = parse_link_level)]
     pub link_level: scm::export::LinkLevel,
+    /// Print every joint of each witness configuration, not only the joints between the two links
+    /// (--json always has every joint).
+    #[arg(long)]
+    pub full_witness: bool,
 }
 
 /// `scm inspect`.

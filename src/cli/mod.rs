@@ -11,7 +11,9 @@ use args::{
     PreprocessArgs, RunArgs, SampleArgs, SamplingArgs, ShapeArgs, ViewArgs,
 };
 use scm::bench::{BenchOptions, BenchReport, bench};
-use scm::compare::{CompareOptions, compare, format_comparison};
+use scm::compare::{
+    CompareOptions, WitnessJoints, compare, format_comparison, format_comparison_with,
+};
 use scm::error::{Error, Result};
 use scm::export::{ExportOptions, ExportReport, export};
 use scm::import::{ImportOptions, import_moveit};
@@ -274,10 +276,15 @@ fn run_diff(cli: &Cli, args: &DiffArgs) -> Result<()> {
         srdf: args.srdf.clone(),
         link_level: args.link_level,
     })?;
+    let joints = if args.full_witness {
+        WitnessJoints::All
+    } else {
+        WitnessJoints::Path
+    };
     if cli.json {
         print_json(&c);
     } else {
-        out!("{}", format_comparison(&c, &args.urdd));
+        out!("{}", format_comparison_with(&c, &args.urdd, joints));
     }
     Ok(())
 }
