@@ -1,8 +1,10 @@
 //! Camera plugin: an orbit camera around the robot (left drag orbits, right or middle drag pans, the
-//! wheel zooms) whose viewport is the part of the window the panels leave free.
+//! wheel zooms) whose viewport is the part of the window the panels leave free. F (or a jump to a
+//! witness) frames the selected pair: the orbit turns to look at its two shapes from where it is.
 
-use crate::scene::SceneBounds;
-use crate::state::UiLayout;
+use crate::scene::{SceneBounds, ShapeEntity};
+use crate::state::{Selection, Settings, UiLayout, Viewer};
+use bevy::camera::primitives::Aabb;
 use bevy::camera::visibility::RenderLayers;
 use bevy::camera::{CameraOutputMode, Viewport};
 use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll, MouseScrollUnit};
@@ -16,18 +18,37 @@ pub struct CameraPlugin;
 
 impl Plugin for CameraPlugin {
     fn build(&self, app: &mut App) {
-        app.add_systems(Startup, spawn_camera).add_systems(
-            Update,
-            (
-                frame_robot.run_if(resource_added::<SceneBounds>),
-                orbit_from_mouse,
-                place_camera,
-                fit_viewport,
+        app.init_resource::<FrameRequest>()
+            .add_systems(Startup, spawn_camera)
+            .add_systems(
+                Update,
+                (
+                    frame_robot.run_if(resource_added::<SceneBounds>),
+                    frame_key,
+                    orbit_from_mouse,
+                    place_camera,
+                    fit_viewport,
+                )
+                    .chain(),
             )
-                .chain(),
-        );
+            // After transform propagation, so a witness jump in this frame is framed where it puts
+            // the shapes.
+            .add_systems(
+                PostUpdate,
+                frame_selected_pair
+                    .after(bevy::transform::TransformSystems::Propagate)
+                    .run_if(|r: Res<FrameRequest>| r.0),
+            );
     }
 }
+
+/// A request to frame the selected pair (the F key, the witness buttons, the script's `frame` and
+/// `witness`), served after the shapes are posed.
+#[derive(Resource, Debug, Default)]
+pub struct FrameRequest(pub bool);
+
+/// How far from the focus the camera stands, in radii of what it frames.
+const FRAME_DISTANCE: f32 = 2.8;
 
 /// The orbit: a focus point, two angles and a distance.
 #[derive(Component, Debug, Clone, Copy, PartialEq)]
@@ -85,7 +106,71 @@ fn spawn_camera(mut commands: Commands, mut egui: ResMut<EguiGlobalSettings>) {
 fn frame_robot(bounds: Res<SceneBounds>, mut orbits: Query<&mut Orbit>) {
     for mut orbit in &mut orbits {
         orbit.focus = bounds.center;
-        orbit.distance = bounds.radius * 2.8;
+        orbit.distance = bounds.radius * FRAME_DISTANCE;
+    }
+}
+
+/// F over the 3D view (not while typing in a panel) asks to frame the selected pair.
+fn frame_key(
+    keys: Res<ButtonInput<KeyCode>>,
+    egui: Res<bevy_egui::input::EguiWantsInput>,
+    mut frame: ResMut<FrameRequest>,
+) {
+    if keys.just_pressed(KeyCode::KeyF) && !egui.wants_any_keyboard_input() {
+        frame.0 = true;
+    }
+}
+
+/// The world-space sphere around a set of boxes (`None` for none).
+pub fn bounding_sphere(boxes: &[(Vec3, Vec3)]) -> Option<(Vec3, f32)> {
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for (a, b) in boxes {
+        lo = lo.min(*a);
+        hi = hi.max(*b);
+    }
+    (lo.x <= hi.x).then(|| ((lo + hi) * 0.5, ((hi - lo) * 0.5).length()))
+}
+
+/// Turns the orbit to the selected pair: the focus at the centre of its two shapes, the distance so
+/// both fit, the angles kept (the orbit controls go on from there). Without a selection the request
+/// is dropped.
+fn frame_selected_pair(
+    mut frame: ResMut<FrameRequest>,
+    viewer: Res<Viewer>,
+    settings: Res<Settings>,
+    selection: Res<Selection>,
+    shapes: Query<(&ShapeEntity, &Aabb, &GlobalTransform)>,
+    mut orbits: Query<&mut Orbit>,
+) {
+    frame.0 = false;
+    let Some((a, b)) = viewer.0.type_data(settings.shape_type).and_then(|d| {
+        let p = selection.within(d.pair_count())?;
+        Some(d.pair(p))
+    }) else {
+        return;
+    };
+    let boxes: Vec<(Vec3, Vec3)> = shapes
+        .iter()
+        .filter(|(s, _, _)| s.shape_type == settings.shape_type && (s.index == a || s.index == b))
+        .flat_map(|(_, aabb, t)| {
+            let (c, h) = (Vec3::from(aabb.center), Vec3::from(aabb.half_extents));
+            // The eight corners in the world frame, as a degenerate box each.
+            (0..8).map(move |k| {
+                let s = Vec3::new(
+                    if k & 1 == 0 { -1.0 } else { 1.0 },
+                    if k & 2 == 0 { -1.0 } else { 1.0 },
+                    if k & 4 == 0 { -1.0 } else { 1.0 },
+                );
+                let p = t.transform_point(c + h * s);
+                (p, p)
+            })
+        })
+        .collect();
+    if let Some((center, radius)) = bounding_sphere(&boxes) {
+        for mut orbit in &mut orbits {
+            orbit.focus = center;
+            orbit.distance = (radius * FRAME_DISTANCE).clamp(0.15, 100.0);
+        }
     }
 }
 

@@ -1,5 +1,6 @@
 //! Joint panel plugin (left): the shape type, the original-mesh toggle, one slider per degree of
-//! freedom with its name and limits, home and a random configuration.
+//! freedom with its name and limits (filtered by name, for robots with tens of joints), home and a
+//! random configuration.
 
 use crate::state::{Joints, Settings, UiLayout, UiOrder, Viewer};
 use bevy::prelude::*;
@@ -22,7 +23,19 @@ pub fn random_configuration(dofs: &[scm::robot::Dof], seed: u64) -> Vec<f64> {
     dofs.iter().map(|d| rng.range(d.lower, d.upper)).collect()
 }
 
+/// The DOFs whose name contains every word of `filter` (case-insensitive), in configuration order.
+pub fn matching_joints(dofs: &[scm::robot::Dof], filter: &str) -> Vec<usize> {
+    let words: Vec<String> = filter.split_whitespace().map(str::to_lowercase).collect();
+    (0..dofs.len())
+        .filter(|&i| {
+            let name = dofs[i].name.to_lowercase();
+            words.iter().all(|w| name.contains(w.as_str()))
+        })
+        .collect()
+}
+
 fn joint_panel(
+    mut filter: Local<String>,
     mut contexts: EguiContexts,
     mut layout: ResMut<UiLayout>,
     viewer: Res<Viewer>,
@@ -75,10 +88,21 @@ fn joint_panel(
                     joints.bypass_change_detection().next_seed += 1;
                 }
             });
+            let shown = matching_joints(model.dofs(), &filter);
+            ui.horizontal(|ui| {
+                ui.label("Filter");
+                ui.add(
+                    egui::TextEdit::singleline(&mut *filter)
+                        .hint_text("joint name words")
+                        .desired_width(120.0),
+                );
+                ui.label(format!("{} of {}", shown.len(), model.dofs().len()));
+            });
             egui::ScrollArea::vertical().show(ui, |ui| {
-                for (v, d) in q.iter_mut().zip(model.dofs()) {
+                for i in shown {
+                    let d = &model.dofs()[i];
                     ui.label(format!("{}  [{:.3}, {:.3}]", d.name, d.lower, d.upper));
-                    ui.add(egui::Slider::new(v, d.lower..=d.upper).fixed_decimals(3));
+                    ui.add(egui::Slider::new(&mut q[i], d.lower..=d.upper).fixed_decimals(3));
                 }
             });
         });
@@ -90,4 +114,27 @@ fn joint_panel(
         *settings = s;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_filter_keeps_joints_whose_name_has_every_word() {
+        let dofs: Vec<scm::robot::Dof> = ["leg_left_knee", "leg_right_knee", "arm_left_elbow"]
+            .iter()
+            .enumerate()
+            .map(|(joint, name)| scm::robot::Dof {
+                joint,
+                name: name.to_string(),
+                lower: -1.0,
+                upper: 1.0,
+            })
+            .collect();
+        assert_eq!(matching_joints(&dofs, ""), vec![0, 1, 2]);
+        assert_eq!(matching_joints(&dofs, "KNEE"), vec![0, 1]);
+        assert_eq!(matching_joints(&dofs, "left knee"), vec![0]);
+        assert!(matching_joints(&dofs, "wrist").is_empty());
+    }
 }

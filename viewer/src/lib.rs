@@ -1,7 +1,8 @@
 //! scm-viewer: the interactive viewer for exploring and refining a URDD's self-collision matrices.
 //!
 //! One plugin per concern, all on the `scm` library's types: [`scene`] (robot shapes and meshes),
-//! [`camera`] (orbit camera), [`joint_panel`] (sliders), [`pair_panel`] (pair list), [`selection`]
+//! [`camera`] (orbit camera, framing the selected pair), [`joint_panel`] (sliders), [`pair_panel`]
+//! (pair list), [`matrix_view`] (the matrix as a picture), [`selection`]
 //! (highlight and closest points), [`editing`] (marks, bulk rules, undo, save) and, in scripted mode,
 //! [`player`]. The state they share is in [`state`]; the logic behind the panels is plain Rust in
 //! [`model`], [`pairs`], [`edits`], [`script`] and [`geometry`], tested without a window.
@@ -13,6 +14,7 @@ pub mod edits;
 mod fixtures;
 pub mod geometry;
 pub mod joint_panel;
+pub mod matrix_view;
 pub mod model;
 pub mod pair_panel;
 pub mod pairs;
@@ -109,6 +111,7 @@ pub fn run(dir: &Path, options: ViewerOptions) -> scm::Result<AppExit> {
         camera::CameraPlugin,
         joint_panel::JointPanelPlugin,
         pair_panel::PairPanelPlugin,
+        matrix_view::MatrixViewPlugin,
         selection::SelectionPlugin,
         editing::EditingPlugin,
     ));

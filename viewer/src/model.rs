@@ -20,6 +20,9 @@ pub struct TypeData {
     pub sample: SampleFile,
     /// The effective matrix with the current user layer applied.
     pub matrix: SkipMatrix,
+    /// Per pair, its link pair's verdict on the exact geometry with a `never`'s evidence
+    /// ([`crate::pairs::exact_text`]); empty for same-link pairs or without `sample/mesh.json`.
+    pub exact: Vec<String>,
     /// A checker over all pairs (no skips), for current distances and closest points.
     checker: SelfChecker,
 }
@@ -97,6 +100,7 @@ impl Model {
         let kinematics = Kinematics::new(&robot);
         let imported = ImportedLayer::load(&urdd)?;
         let user = UserLayer::load(&urdd)?;
+        let mesh = load_mesh_file(&urdd)?;
         let mut types = Vec::new();
         let mut first_error = None;
         for t in ShapeType::ALL {
@@ -110,10 +114,21 @@ impl Model {
             let shapes = urdd.shapes(t)?.shapes;
             let matrix = SkipMatrix::resolve(shapes, sample.clone(), imported.as_ref(), &user)?;
             let checker = SelfChecker::load(&urdd, t, SkipMode::NoSkips)?;
+            let exact = matrix
+                .stats
+                .iter()
+                .map(|s| {
+                    let (a, b) = (&matrix.shapes[s.a].link, &matrix.shapes[s.b].link);
+                    mesh.as_ref()
+                        .and_then(|f| f.pair(a, b))
+                        .map_or(String::new(), crate::pairs::exact_text)
+                })
+                .collect();
             types.push(TypeData {
                 shape_type: t,
                 sample,
                 matrix,
+                exact,
                 checker,
             });
         }
@@ -122,7 +137,6 @@ impl Model {
                 Error::input(dir, "sample", "no shape type was sampled; run `scm sample`")
             }));
         }
-        let mesh = load_mesh_file(&urdd)?;
         Ok(Model {
             urdd,
             robot,

@@ -1,7 +1,8 @@
 //! Pair panel plugin (right): the selected type's pairs with their verdict, reason and statistics,
 //! sortable and filtered; the selected pair's details and a button to its witness configuration.
 
-use crate::pairs::{SortKey, pair_label, ratio, visible_pairs};
+use crate::camera::FrameRequest;
+use crate::pairs::{SortKey, pair_label, ratio, ratio_text, visible_pairs};
 use crate::state::{
     Distances, Joints, PairRows, PairView, Selection, Settings, UiLayout, UiOrder, Viewer,
 };
@@ -37,7 +38,13 @@ fn refresh_pair_rows(
     if let Some(data) = viewer.0.type_data(settings.shape_type)
         && distances.0.len() == data.pair_count()
     {
-        rows.rows = visible_pairs(&data.matrix, &distances.0, view.sort, &view.filter);
+        rows.rows = visible_pairs(
+            &data.matrix,
+            &data.exact,
+            &distances.0,
+            view.sort,
+            &view.filter,
+        );
         rows.shape_type = Some(settings.shape_type);
     }
 }
@@ -48,15 +55,6 @@ fn mm(d: f64) -> String {
         format!("{:+8.1}", d * 1000.0)
     } else {
         "       -".into()
-    }
-}
-
-/// `d / d_mean` in six characters (`-inf` when the mean is not positive).
-fn ratio_text(r: f64) -> String {
-    if r.is_finite() {
-        format!("{r:>6.2}")
-    } else {
-        format!("{:>6}", "-inf")
     }
 }
 
@@ -71,6 +69,7 @@ fn pair_panel(
     mut view: ResMut<PairView>,
     mut selection: ResMut<Selection>,
     mut joints: ResMut<Joints>,
+    mut frame: ResMut<FrameRequest>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
     let Some(data) = viewer.0.type_data(settings.shape_type) else {
@@ -109,44 +108,63 @@ fn pair_panel(
             ui.horizontal(|ui| {
                 ui.label("Filter");
                 ui.add(
-                    egui::TextEdit::singleline(&mut v.filter).hint_text("link, reason, skip..."),
+                    egui::TextEdit::singleline(&mut v.filter)
+                        .hint_text("link, reason, skip, certified, sampled..."),
                 );
+                ui.checkbox(&mut v.compact, "compact names")
+                    .on_hover_text("write the two names' shared prefix and suffix once");
             });
             ui.label(
                 egui::RichText::new(format!(
-                    "{:<30} {:>8} {:>6} {:>8}  verdict",
-                    "pair (shown: ".to_string() + &listed.len().to_string() + ")",
+                    "{:>8} {:>6} {:>8}  {:<14} {:<15} pair (shown: {})",
                     "d mm",
                     "d/mean",
-                    "d_min mm"
+                    "d_min mm",
+                    "verdict",
+                    "exact geometry",
+                    listed.len()
                 ))
                 .monospace()
                 .size(11.0),
+            )
+            .on_hover_text(
+                "d: distance now; d/mean: over the sampled mean; verdict: this type's; \
+                 exact geometry: the link pair's verdict in the exported files, and whether a never \
+                 is certified or only sampled",
             );
             let row_height = ui.text_style_height(&egui::TextStyle::Monospace) + 4.0;
-            egui::ScrollArea::vertical()
-                .max_height((ui.available_height() - 240.0).max(120.0))
+            // Whole names: the rows scroll sideways rather than cut a name off.
+            egui::ScrollArea::both()
+                .max_height((ui.available_height() - 260.0).max(120.0))
                 .auto_shrink([false, false])
                 .show_rows(ui, row_height, listed.len(), |ui, range| {
                     for &p in &listed[range] {
                         let e = &m.entries[p];
                         let s = &m.stats[p];
                         let cur = d.get(p).copied().unwrap_or(f64::NAN);
-                        let mut name = pair_label(m, p);
-                        if name.chars().count() > 30 {
-                            name = name.chars().take(29).collect::<String>() + "~";
-                        }
+                        let verdict = format!("{} {}", if e.skip { "skip " } else { "check" }, e.reason);
                         let text = format!(
-                            "{name:<30} {} {} {}  {} {}",
+                            "{} {:>6} {}  {verdict:<14} {:<15} {}",
                             mm(cur),
                             ratio_text(ratio(cur, s)),
                             mm(s.d_min),
-                            if e.skip { "skip " } else { "check" },
-                            e.reason
+                            data.exact[p],
+                            pair_label(m, p, v.compact)
                         );
                         let rich = egui::RichText::new(text).monospace().size(11.0);
                         let rich = if e.skip { rich.weak() } else { rich };
-                        if ui.selectable_label(selected == Some(p), rich).clicked() {
+                        let row = ui
+                            .add(egui::Button::selectable(selected == Some(p), rich).wrap_mode(egui::TextWrapMode::Extend))
+                            .on_hover_text(format!(
+                                "{}\n{verdict} ({} layer); exact geometry: {}\nd_min {:.2} mm, d_mean {:.2} mm, in collision {:.2}% of samples",
+                                pair_label(m, p, false),
+                                e.layer.id(),
+                                if data.exact[p].is_empty() { "\u{2014}" } else { &data.exact[p] },
+                                s.d_min * 1000.0,
+                                s.d_mean * 1000.0,
+                                100.0 * s.collision_fraction
+                            ));
+                        if row.clicked() {
                             selected = if selected == Some(p) { None } else { Some(p) };
                         }
                     }
@@ -160,7 +178,7 @@ fn pair_panel(
                     let e = &m.entries[p];
                     let s = &m.stats[p];
                     let cur = d.get(p).copied().unwrap_or(f64::NAN);
-                    ui.strong(pair_label(m, p));
+                    ui.strong(pair_label(m, p, false));
                     ui.label(format!(
                         "{}  (reason {}, layer {}; inferred by sampling: {})",
                         if e.skip { "skipped" } else { "checked" },
@@ -172,7 +190,7 @@ fn pair_panel(
                         ui.label("d now");
                         ui.label(format!("{:.2} mm", cur * 1000.0));
                         ui.label("d / d_mean");
-                        ui.label(format!("{:.3}", ratio(cur, s)));
+                        ui.label(ratio_text(ratio(cur, s)));
                         ui.end_row();
                         ui.label("d_min");
                         ui.label(format!("{:.2} mm", s.d_min * 1000.0));
@@ -194,9 +212,18 @@ fn pair_panel(
                         Some(k) => format!("Go to witness (sample {k}, closest)"),
                         None => "Go to witness (closest found)".into(),
                     };
-                    if ui.add_enabled(usable, egui::Button::new(label)).clicked() {
-                        go_to = Some(witness.clone());
-                    }
+                    ui.horizontal(|ui| {
+                        if ui.add_enabled(usable, egui::Button::new(label)).clicked() {
+                            go_to = Some(witness.clone());
+                        }
+                        if ui
+                            .button("Frame (F)")
+                            .on_hover_text("point the camera at the selected pair")
+                            .clicked()
+                        {
+                            frame.0 = true;
+                        }
+                    });
                     let (la, lb) = (&m.shapes[s.a].link, &m.shapes[s.b].link);
                     if let Some(r) = viewer.0.mesh.as_ref().and_then(|f| f.pair(la, lb)) {
                         ui.separator();
@@ -216,6 +243,7 @@ fn pair_panel(
     }
     if let Some(q) = go_to {
         joints.q = q;
+        frame.0 = true;
     }
     Ok(())
 }

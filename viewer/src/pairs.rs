@@ -1,5 +1,6 @@
 //! The pair list: which pairs of a type to show and in which order (by current distance, by current
-//! distance over mean distance, by minimum sampled distance), filtered by text. Plain Rust, no Bevy.
+//! distance over mean distance, by minimum sampled distance), filtered by text (names, reason, layer,
+//! and the link pair's verdict and evidence on the exact geometry). Plain Rust, no Bevy.
 
 use scm::matrix::SkipMatrix;
 use scm::sample::PairRecord;
@@ -56,6 +57,63 @@ pub fn ratio(d: f64, stats: &PairRecord) -> f64 {
     }
 }
 
+/// `d / d_mean` for the list: an em dash where the ratio is undefined (the mean is not positive).
+pub fn ratio_text(r: f64) -> String {
+    if r.is_finite() {
+        format!("{r:.2}")
+    } else {
+        "\u{2014}".into()
+    }
+}
+
+/// The link pair's verdict on the exact geometry as the list shows and filters it: the reason, and
+/// for `never` its evidence (`never certified`, `never sampled`).
+pub fn exact_text(r: &scm::sample::LinkPairRecord) -> String {
+    match r.evidence {
+        Some(e) => format!("{} {}", r.reason.id(), e.id()),
+        None => r.reason.id().to_string(),
+    }
+}
+
+/// Two names with their shared prefix and suffix (whole words, cut at `_`, `-`, ...) written once:
+/// `leg_{left,right}_4_link`. Names that share too little (under four characters) stay `a - b`.
+pub fn compact_pair(a: &str, b: &str) -> String {
+    let (ca, cb): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let separator = |c: &char| !c.is_alphanumeric();
+    // The shared parts end and start at a separator, so a word is never split: `leg_{left,right}`,
+    // not `leg_{lef,righ}t`.
+    let mut prefix = ca.iter().zip(&cb).take_while(|(x, y)| x == y).count();
+    while prefix > 0 && !separator(&ca[prefix - 1]) {
+        prefix -= 1;
+    }
+    let rest = ca.len().min(cb.len()) - prefix;
+    let mut suffix = ca
+        .iter()
+        .rev()
+        .zip(cb.iter().rev())
+        .take(rest)
+        .take_while(|(x, y)| x == y)
+        .count();
+    while suffix > 0 && !separator(&ca[ca.len() - suffix]) {
+        suffix -= 1;
+    }
+    let (ma, mb) = (
+        &ca[prefix..ca.len() - suffix],
+        &cb[prefix..cb.len() - suffix],
+    );
+    if prefix + suffix < 4 || ma.is_empty() || mb.is_empty() {
+        return format!("{a} - {b}");
+    }
+    let text = |c: &[char]| c.iter().collect::<String>();
+    format!(
+        "{}{{{},{}}}{}",
+        text(&ca[..prefix]),
+        text(ma),
+        text(mb),
+        text(&ca[ca.len() - suffix..])
+    )
+}
+
 /// `link#piece`, or just `link` for whole-link types.
 pub fn shape_label(shape: &ShapeRecord, pieces: bool) -> String {
     if pieces {
@@ -65,15 +123,19 @@ pub fn shape_label(shape: &ShapeRecord, pieces: bool) -> String {
     }
 }
 
-/// The text a pair row shows and the filter matches: both shapes, the reason and the layer.
-pub fn pair_label(m: &SkipMatrix, p: usize) -> String {
+/// The two shapes of pair `p` (`a - b`, or with `compact` their shared prefix and suffix once).
+pub fn pair_label(m: &SkipMatrix, p: usize, compact: bool) -> String {
     let s = &m.stats[p];
     let pieces = m.shape_type.scope() == scm::shapes::Scope::Pieces;
-    format!(
-        "{} - {}",
+    let (a, b) = (
         shape_label(&m.shapes[s.a], pieces),
-        shape_label(&m.shapes[s.b], pieces)
-    )
+        shape_label(&m.shapes[s.b], pieces),
+    );
+    if compact {
+        compact_pair(&a, &b)
+    } else {
+        format!("{a} - {b}")
+    }
 }
 
 /// The value of `key` for pair `p` given the current distances.
@@ -86,9 +148,16 @@ pub fn sort_value(m: &SkipMatrix, distances: &[f64], p: usize, key: SortKey) -> 
     }
 }
 
-/// The pairs to list: those whose label, reason or layer contains `filter` (case-insensitive; every
+/// The pairs to list: those whose names, reason, layer, skip or check, or verdict on the exact
+/// geometry (`exact[p]`, e.g. `never certified`) contain `filter` (case-insensitive; every
 /// whitespace-separated word must match), sorted ascending by `key` (ties by pair index).
-pub fn visible_pairs(m: &SkipMatrix, distances: &[f64], key: SortKey, filter: &str) -> Vec<usize> {
+pub fn visible_pairs(
+    m: &SkipMatrix,
+    exact: &[String],
+    distances: &[f64],
+    key: SortKey,
+    filter: &str,
+) -> Vec<usize> {
     let words: Vec<String> = filter.split_whitespace().map(str::to_lowercase).collect();
     let mut rows: Vec<(f64, usize)> = (0..m.entries.len())
         .filter(|&p| {
@@ -97,11 +166,12 @@ pub fn visible_pairs(m: &SkipMatrix, distances: &[f64], key: SortKey, filter: &s
             }
             let entry = &m.entries[p];
             let text = format!(
-                "{} {} {} {}",
-                pair_label(m, p),
+                "{} {} {} {} {}",
+                pair_label(m, p, false),
                 entry.reason,
                 entry.layer.id(),
-                if entry.skip { "skip" } else { "check" }
+                if entry.skip { "skip" } else { "check" },
+                exact.get(p).map_or("", String::as_str)
             )
             .to_lowercase();
             words.iter().all(|w| text.contains(w.as_str()))
@@ -137,17 +207,17 @@ mod tests {
         let m = matrix(4); // pairs (0,1) (0,2) (0,3) (1,2) (1,3) (2,3)
         let d = [0.3, -0.02, 0.1, 0.05, 0.2, 0.0];
         assert_eq!(
-            visible_pairs(&m, &d, SortKey::Current, ""),
+            visible_pairs(&m, &[], &d, SortKey::Current, ""),
             vec![1, 5, 3, 2, 4, 0]
         );
         // d_mean is 0.1 everywhere: the ratio orders like the distance.
         assert_eq!(
-            visible_pairs(&m, &d, SortKey::Ratio, ""),
+            visible_pairs(&m, &[], &d, SortKey::Ratio, ""),
             vec![1, 5, 3, 2, 4, 0]
         );
         // d_min falls with the pair index.
         assert_eq!(
-            visible_pairs(&m, &d, SortKey::DMin, ""),
+            visible_pairs(&m, &[], &d, SortKey::DMin, ""),
             vec![5, 4, 3, 2, 1, 0]
         );
     }
@@ -156,10 +226,52 @@ mod tests {
     fn filter_matches_every_word_in_names_and_reasons() {
         let m = matrix(4);
         let d = [0.0; 6];
-        assert_eq!(visible_pairs(&m, &d, SortKey::Current, "l1"), vec![0, 3, 4]);
-        assert_eq!(visible_pairs(&m, &d, SortKey::Current, "L1 l3"), vec![4]);
-        assert_eq!(visible_pairs(&m, &d, SortKey::Current, "adjacent"), vec![0]);
-        assert!(visible_pairs(&m, &d, SortKey::Current, "nothing").is_empty());
+        assert_eq!(
+            visible_pairs(&m, &[], &d, SortKey::Current, "l1"),
+            vec![0, 3, 4]
+        );
+        assert_eq!(
+            visible_pairs(&m, &[], &d, SortKey::Current, "L1 l3"),
+            vec![4]
+        );
+        assert_eq!(
+            visible_pairs(&m, &[], &d, SortKey::Current, "adjacent"),
+            vec![0]
+        );
+        assert!(visible_pairs(&m, &[], &d, SortKey::Current, "nothing").is_empty());
+    }
+
+    #[test]
+    fn filter_selects_by_evidence_on_the_exact_geometry() {
+        let m = matrix(3); // pairs (0,1) (0,2) (1,2)
+        let exact: Vec<String> = ["adjacent", "never certified", "never sampled"]
+            .map(String::from)
+            .to_vec();
+        let d = [0.0; 3];
+        let f = |text| visible_pairs(&m, &exact, &d, SortKey::Current, text);
+        assert_eq!(f("never"), vec![1, 2]);
+        assert_eq!(f("certified"), vec![1]);
+        assert_eq!(f("never sampled"), vec![2]);
+    }
+
+    #[test]
+    fn compact_names_write_the_shared_parts_once() {
+        assert_eq!(
+            compact_pair("leg_left_4_link", "leg_right_4_link"),
+            "leg_{left,right}_4_link"
+        );
+        assert_eq!(
+            compact_pair(
+                "gripper_right_inner_double_link",
+                "gripper_right_outer_knuckle"
+            ),
+            "gripper_right_{inner_double_link,outer_knuckle}"
+        );
+        // Too little in common, or one name inside the other: both in full.
+        assert_eq!(compact_pair("base", "hand"), "base - hand");
+        assert_eq!(compact_pair("link1", "link10"), "link1 - link10");
+        assert_eq!(ratio_text(f64::NEG_INFINITY), "\u{2014}");
+        assert_eq!(ratio_text(0.5), "0.50");
     }
 
     #[test]
@@ -177,6 +289,6 @@ mod tests {
         assert_eq!(find_pair(&m, "l1#0", "l2"), Some(3));
         assert_eq!(find_pair(&m, "l1", "l1"), None);
         assert_eq!(find_pair(&m, "l1#1", "l2"), None);
-        assert_eq!(pair_label(&m, 4), "l1 - l3");
+        assert_eq!(pair_label(&m, 4, false), "l1 - l3");
     }
 }

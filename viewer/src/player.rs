@@ -1,8 +1,10 @@
 //! Script plugin: plays an action script frame by frame through the same resources and edit requests
 //! as the panels, writes screenshots, and exits (0 when every action succeeded).
 
+use crate::camera::{FrameRequest, Orbit};
 use crate::edits::Edit;
 use crate::joint_panel::random_configuration;
+use crate::matrix_view::MatrixView;
 use crate::pairs::find_pair;
 use crate::script::{Action, Script};
 use crate::state::{
@@ -67,6 +69,11 @@ fn play_script(
     mut selection: ResMut<Selection>,
     distances: Res<Distances>,
     editing: Res<Editing>,
+    (mut matrix, mut frame, mut orbits): (
+        ResMut<MatrixView>,
+        ResMut<FrameRequest>,
+        Query<&mut Orbit>,
+    ),
     mut requests: MessageWriter<EditRequest>,
     mut exit: MessageWriter<AppExit>,
 ) {
@@ -154,6 +161,7 @@ fn play_script(
                 let w = &d.matrix.stats[p].witness.q;
                 if w.len() == model.dofs().len() {
                     joints.q = w.clone();
+                    frame.0 = true;
                 } else {
                     fail(&mut exit, "the selected pair has no witness configuration");
                 }
@@ -163,6 +171,23 @@ fn play_script(
         Action::Originals(on) => settings.originals = on,
         Action::Sort(k) => view.sort = k,
         Action::Filter(f) => view.filter = f,
+        Action::Compact(on) => view.compact = on,
+        Action::Matrix(exported) => {
+            matrix.open = exported.is_some();
+            matrix.exported = exported.unwrap_or(false);
+        }
+        Action::Pieces(a, b) => {
+            matrix.open = true;
+            matrix.pieces = Some((a, b));
+        }
+        Action::Frame => frame.0 = true,
+        Action::Look(p, distance) => {
+            let focus = crate::scene::to_world(scm::math::Vec3::new(p[0], p[1], p[2]));
+            for mut orbit in &mut orbits {
+                orbit.focus = focus;
+                orbit.distance = distance as f32;
+            }
+        }
         Action::Select(a, b) => match data.and_then(|d| find_pair(&d.matrix, &a, &b)) {
             Some(p) => selection.0 = Some(p),
             None => fail(&mut exit, &format!("no pair of \"{a}\" and \"{b}\"")),

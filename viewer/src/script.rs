@@ -4,8 +4,9 @@
 //!
 //! ```text
 //! home | random SEED | joint NAME VALUE | config V1 .. Vn | witness
-//! type ID | originals on|off | sort current|ratio|dmin | filter [WORDS..]
+//! type ID | originals on|off | sort current|ratio|dmin | filter [WORDS..] | compact on|off
 //! select SHAPE SHAPE | select-closest | deselect          (SHAPE: link or link#piece)
+//! matrix on|off|type|exported | pieces LINK LINK | frame | look X Y Z DISTANCE
 //! skip | check | unmark | skip-below METRES | skip-below-selected | skip-ratio-below R
 //! undo | redo | save | screenshot FILE.png
 //! ```
@@ -37,6 +38,17 @@ pub enum Action {
     Sort(SortKey),
     /// Filter the pair list.
     Filter(String),
+    /// Write pair names compactly (shared prefix and suffix once) or in full.
+    Compact(bool),
+    /// Close the matrix window (`None`) or open it on the type's verdicts (`Some(false)`) or the
+    /// exported files' (`Some(true)`).
+    Matrix(Option<bool>),
+    /// Open the piece grid of two links in the matrix window.
+    Pieces(String, String),
+    /// Point the camera at the selected pair.
+    Frame,
+    /// Point the camera at a point of the robot's root frame (x, y, z in m) from a distance (m).
+    Look([f64; 3], f64),
     /// Select the pair of two shapes (`link` or `link#piece`).
     Select(String, String),
     /// Select the pair with the smallest current distance among the checked pairs.
@@ -133,7 +145,16 @@ impl Script {
                 }
                 Action::SelectClosest => selected = true,
                 Action::Deselect => selected = false,
+                Action::Pieces(a, b) => {
+                    let pieces =
+                        data.is_some_and(|d| d.shape_type.scope() == scm::shapes::Scope::Pieces);
+                    let found = data.and_then(|d| scm::matrix::HeatMap::pieces(&d.matrix, a, b));
+                    if !pieces || found.is_none() {
+                        return fail(format!("no {t} piece grid of links \"{a}\" and \"{b}\""));
+                    }
+                }
                 Action::Witness
+                | Action::Frame
                 | Action::Skip
                 | Action::Check
                 | Action::Unmark
@@ -164,6 +185,15 @@ fn strip_comment(line: &str) -> &str {
 /// `line N`, the element of a script error.
 fn line_label(n: usize) -> String {
     format!("line {n}")
+}
+
+/// `on` or `off` for `verb`.
+fn on_off(verb: &str, arg: &str) -> std::result::Result<bool, String> {
+    match arg {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        other => Err(format!("`{verb}` takes on or off, got \"{other}\"")),
+    }
 }
 
 /// One action from a non-empty line.
@@ -210,11 +240,7 @@ fn parse_line(line: &str) -> std::result::Result<Action, String> {
         }
         "originals" => {
             arity(1)?;
-            match args[0] {
-                "on" => Action::Originals(true),
-                "off" => Action::Originals(false),
-                other => return Err(format!("`originals` takes on or off, got \"{other}\"")),
-            }
+            Action::Originals(on_off(verb, args[0])?)
         }
         "sort" => {
             arity(1)?;
@@ -223,6 +249,41 @@ fn parse_line(line: &str) -> std::result::Result<Action, String> {
             })?)
         }
         "filter" => Action::Filter(args.join(" ")),
+        "compact" => {
+            arity(1)?;
+            Action::Compact(on_off(verb, args[0])?)
+        }
+        "matrix" => {
+            arity(1)?;
+            Action::Matrix(match args[0] {
+                "off" => None,
+                "on" | "type" => Some(false),
+                "exported" => Some(true),
+                other => {
+                    return Err(format!(
+                        "`matrix` takes on, off, type or exported, got \"{other}\""
+                    ));
+                }
+            })
+        }
+        "pieces" => {
+            arity(2)?;
+            Action::Pieces(args[0].to_string(), args[1].to_string())
+        }
+        "frame" => arity(0).map(|_| Action::Frame)?,
+        "look" => {
+            arity(4)?;
+            let distance = number(args[3])?;
+            if distance <= 0.0 {
+                return Err(format!(
+                    "`look`: the distance must be positive, got {distance}"
+                ));
+            }
+            Action::Look(
+                [number(args[0])?, number(args[1])?, number(args[2])?],
+                distance,
+            )
+        }
         "select" => {
             arity(2)?;
             Action::Select(args[0].to_string(), args[1].to_string())
@@ -267,11 +328,21 @@ mod tests {
     fn parses_every_action_with_line_numbers() {
         let s = parse(
             "# demo\nhome\njoint j1 0.5\nconfig 0 1.5 -2\ntype decomp-hull\n\nselect a b#2 # pair\n\
-             skip\nskip-below 0.01\nskip-ratio-below 0.3\nsort dmin\nfilter link 3\nscreenshot x.png\nsave\n",
+             skip\nskip-below 0.01\nskip-ratio-below 0.3\nsort dmin\nfilter link 3\nscreenshot x.png\nsave\n\
+             matrix exported\nmatrix off\nframe\nlook 0 0 0.5 1.2\ncompact on\npieces a b\n",
         )
         .unwrap();
         let lines: Vec<usize> = s.actions.iter().map(|(l, _)| *l).collect();
-        assert_eq!(lines, vec![2, 3, 4, 5, 7, 8, 9, 10, 11, 12, 13, 14]);
+        assert_eq!(
+            lines,
+            vec![
+                2, 3, 4, 5, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20
+            ]
+        );
+        assert_eq!(s.actions[12].1, Action::Matrix(Some(true)));
+        assert_eq!(s.actions[13].1, Action::Matrix(None));
+        assert_eq!(s.actions[15].1, Action::Look([0.0, 0.0, 0.5], 1.2));
+        assert_eq!(s.actions[16].1, Action::Compact(true));
         assert_eq!(s.actions[1].1, Action::Joint("j1".into(), 0.5));
         assert_eq!(s.actions[2].1, Action::Config(vec![0.0, 1.5, -2.0]));
         assert_eq!(s.actions[3].1, Action::Type(ShapeType::DecompHull));
@@ -291,6 +362,9 @@ mod tests {
             ("skip now\n", "line 1: `skip` takes 0 argument(s), got 1"),
             ("screenshot a.jpg\n", "must end in .png"),
             ("joint j1 NaN\n", "not a finite number"),
+            ("matrix big\n", "`matrix` takes on, off, type or exported"),
+            ("look 0 0 0 -1\n", "distance must be positive"),
+            ("compact yes\n", "`compact` takes on or off"),
         ] {
             let e = parse(text).unwrap_err();
             assert_eq!(e.exit_code(), 2);

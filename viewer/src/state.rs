@@ -30,13 +30,15 @@ pub struct Settings {
     pub originals: bool,
 }
 
-/// The pair list's sort key and filter.
+/// The pair list's sort key, filter and name style.
 #[derive(Resource, Debug, Clone, Default, PartialEq)]
 pub struct PairView {
     /// Sort key.
     pub sort: SortKey,
     /// Filter text.
     pub filter: String,
+    /// Write the two names' shared prefix and suffix once (`leg_{left,right}_4_link`).
+    pub compact: bool,
 }
 
 /// The pairs the list shows, in order (derived from [`PairView`], [`Distances`] and the matrix of

@@ -3,11 +3,14 @@
 //! Without xvfb-run or Vulkan the render test is skipped with a note, except under `CI=true`, where it
 //! fails (`.ci/run` installs them).
 
+use scm::matrix::Verdict;
 use scm::matrix::{SkipMatrix, UserLayer};
 use scm::progress::NoProgress;
 use scm::query::{SelfChecker, SkipMode};
 use scm::shapes::ShapeType;
 use scm::urdd::Urdd;
+use scm_viewer::matrix_view::{FRAME_RGB, MatrixView, picture};
+use scm_viewer::model::Model;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -119,18 +122,48 @@ fn run_viewer(dir: &Path, script: &Path, limit: Duration) -> Output {
     child.wait_with_output().expect("viewer output")
 }
 
+/// A decoded screenshot: width, height and RGB pixels row by row.
+struct Shot {
+    width: usize,
+    height: usize,
+    rgb: Vec<[u8; 3]>,
+}
+
+impl Shot {
+    fn load(path: &Path) -> Shot {
+        let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+        decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+        let mut reader = decoder.read_info().expect("png header");
+        let mut buf = vec![0; reader.output_buffer_size().expect("png size")];
+        let info = reader.next_frame(&mut buf).expect("png pixels");
+        let channels = info.color_type.samples();
+        assert!(channels >= 3, "{}: not an RGB image", path.display());
+        Shot {
+            width: info.width as usize,
+            height: info.height as usize,
+            rgb: buf[..info.buffer_size()]
+                .chunks_exact(channels)
+                .map(|px| [px[0], px[1], px[2]])
+                .collect(),
+        }
+    }
+
+    fn at(&self, x: usize, y: usize) -> [u8; 3] {
+        self.rgb[y * self.width + x]
+    }
+}
+
+/// Whether two colours agree within `tolerance` per channel.
+fn close(a: [u8; 3], b: [u8; 3], tolerance: i32) -> bool {
+    (0..3).all(|k| (a[k] as i32 - b[k] as i32).abs() <= tolerance)
+}
+
 /// Counts of highlight-blue and highlight-yellow pixels in a PNG.
 fn highlight_pixels(path: &Path) -> (usize, usize) {
-    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
-    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
-    let mut reader = decoder.read_info().expect("png header");
-    let mut buf = vec![0; reader.output_buffer_size().expect("png size")];
-    let info = reader.next_frame(&mut buf).expect("png pixels");
-    let channels = info.color_type.samples();
-    assert!(channels >= 3, "{}: not an RGB image", path.display());
+    let shot = Shot::load(path);
     let (mut blue, mut yellow) = (0, 0);
-    for px in buf[..info.buffer_size()].chunks_exact(channels) {
+    for px in &shot.rgb {
         let (r, g, b) = (px[0] as i32, px[1] as i32, px[2] as i32);
         if b >= 150 && r <= 90 && g <= 140 && b - g >= 60 {
             blue += 1;
@@ -316,4 +349,132 @@ fn a_bad_script_line_names_the_file_and_line() {
         assert!(err.contains("bad.txt: "), "{err}");
         assert!(err.contains(needle), "{text}: {err}");
     }
+}
+
+/// The matrix window's grid in a screenshot: the box inside its one-pixel frame, as
+/// `(x0, y0, x1, y1)` (exclusive ends).
+fn find_grid(shot: &Shot) -> Option<(usize, usize, usize, usize)> {
+    let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+    for y in 0..shot.height {
+        for x in 0..shot.width {
+            if close(shot.at(x, y), FRAME_RGB, 24) {
+                (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+            }
+        }
+    }
+    (x1 > x0 + 4 && y1 > y0 + 4).then_some((x0 + 1, y0 + 1, x1, y1))
+}
+
+#[test]
+fn matrix_view_shows_the_verdict_colours_and_a_witness_jump_frames_the_pair() {
+    if !can_render() {
+        return;
+    }
+    let dir = demo_urdd("render-matrix");
+    let work = dir.parent().expect("scratch dir").to_path_buf();
+    // The picture the viewer draws for the hull type's exported verdicts.
+    let model = Model::load(&dir).expect("model");
+    let view = MatrixView {
+        open: true,
+        exported: true,
+        pieces: None,
+    };
+    let map = picture(&model, ShapeType::Hull, &view).expect("the hull picture");
+    let counts = map.counts();
+    for v in [Verdict::Adjacent, Verdict::NeverCertified, Verdict::Checked] {
+        assert!(counts.contains_key(&v), "no {v:?} cell in {counts:?}");
+    }
+    // A checked pair to frame, and its two links.
+    let cell = map
+        .cells
+        .iter()
+        .find(|c| c.verdict == Verdict::Checked && c.pair.is_some())
+        .expect("a checked cell with a pair");
+    let (a, b) = (&map.rows[cell.row], &map.cols[cell.col]);
+
+    let (matrix, away, framed) = (
+        work.join("matrix.png"),
+        work.join("away.png"),
+        work.join("framed.png"),
+    );
+    let script = work.join("matrix.txt");
+    std::fs::write(
+        &script,
+        format!(
+            "type hull\n\
+             matrix exported\n\
+             screenshot {}\n\
+             matrix off\n\
+             select {a} {b}\n\
+             look 0 0 -5 0.3   # below the floor, looking away from the robot\n\
+             screenshot {}\n\
+             witness\n\
+             screenshot {}\n",
+            matrix.display(),
+            away.display(),
+            framed.display()
+        ),
+    )
+    .expect("write script");
+    let out = run_viewer(&dir, &script, Duration::from_secs(240));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "viewer failed: {stderr}");
+
+    // Every cell, on both sides of the diagonal, shows its verdict's colour at its shade.
+    let shot = Shot::load(&matrix);
+    let (x0, y0, x1, y1) = find_grid(&shot).expect("the matrix frame in the screenshot");
+    let n = map.rows.len();
+    let size = (x1 - x0) as f64 / n as f64;
+    assert!(
+        ((y1 - y0) as f64 / n as f64 - size).abs() < 0.5,
+        "grid {x0},{y0}..{x1},{y1} is not {n} x {n} square cells"
+    );
+    let centre = |r: usize, c: usize| {
+        (
+            x0 + ((c as f64 + 0.5) * size) as usize,
+            y0 + ((r as f64 + 0.5) * size) as usize,
+        )
+    };
+    let mut wrong = Vec::new();
+    for c in &map.cells {
+        let want = c.verdict.shaded(c.d_min);
+        for (r, col) in [(c.row, c.col), (c.col, c.row)] {
+            let (x, y) = centre(r, col);
+            let got = shot.at(x, y);
+            if !close(got, want, 10) {
+                wrong.push(format!(
+                    "{} - {} {:?}: want {want:?}, got {got:?}",
+                    map.rows[r], map.cols[col], c.verdict
+                ));
+            }
+        }
+    }
+    eprintln!(
+        "matrix: {n} links, grid {x0},{y0}..{x1},{y1}, {} cells checked",
+        2 * map.cells.len()
+    );
+    assert!(
+        wrong.is_empty(),
+        "{} cells off:\n{}",
+        wrong.len(),
+        wrong.join("\n")
+    );
+    for i in 0..n {
+        let (x, y) = centre(i, i);
+        assert!(
+            close(shot.at(x, y), Verdict::SameLink.rgb(), 10),
+            "diagonal {i}"
+        );
+    }
+
+    // Looking away, the pair is not in view; the witness jump frames it.
+    let (blue, yellow) = highlight_pixels(&away);
+    assert!(
+        blue < 50 && yellow < 50,
+        "looking away, yet blue {blue}, yellow {yellow}"
+    );
+    let (blue, yellow) = highlight_pixels(&framed);
+    eprintln!("framed {a} - {b}: {blue} blue and {yellow} yellow pixels");
+    assert!(blue > 300, "framed pair: only {blue} blue pixels");
+    assert!(yellow > 300, "framed pair: only {yellow} yellow pixels");
 }
