@@ -201,11 +201,43 @@ fn matrix_window(
                 }
             });
             let n = map.rows.len().max(map.cols.len()).max(1);
-            let size = (side / n as f32).floor().clamp(3.0, 24.0);
+            // Names on both axes when the cells are tall enough to read them by.
+            let longest = map.rows.iter().chain(&map.cols).map(|l| l.chars().count()).max().unwrap_or(0);
+            let font = egui::FontId::monospace(10.0);
+            let labels = side / n as f32 >= 9.0;
+            let margin = if labels { (longest as f32 * 6.1 + 6.0).min(220.0) } else { 0.0 };
+            let size = ((side - margin) / n as f32).floor().clamp(3.0, 24.0);
             let grid = egui::vec2(size * map.cols.len() as f32, size * map.rows.len() as f32);
-            let (rect, response) = ui.allocate_exact_size(grid + egui::vec2(2.0, 2.0), egui::Sense::click());
+            let (whole, response) = ui.allocate_exact_size(
+                grid + egui::vec2(margin + 2.0, margin + 2.0),
+                egui::Sense::click(),
+            );
+            let rect = egui::Rect::from_min_size(whole.min + egui::vec2(margin, margin), grid + egui::vec2(2.0, 2.0));
             let origin = rect.min + egui::vec2(1.0, 1.0);
-            let painter = ui.painter_at(rect);
+            let painter = ui.painter_at(whole);
+            if labels {
+                let ink = ui.visuals().text_color();
+                for (i, label) in map.rows.iter().enumerate() {
+                    painter.text(
+                        egui::pos2(origin.x - 4.0, origin.y + (i as f32 + 0.5) * size),
+                        egui::Align2::RIGHT_CENTER,
+                        label,
+                        font.clone(),
+                        ink,
+                    );
+                }
+                for (j, label) in map.cols.iter().enumerate() {
+                    let galley = painter.layout_no_wrap(label.clone(), font.clone(), ink);
+                    let at = egui::pos2(
+                        origin.x + (j as f32 + 0.5) * size - galley.size().y / 2.0,
+                        origin.y - 4.0,
+                    );
+                    painter.add(
+                        egui::epaint::TextShape::new(at, galley, ink)
+                            .with_angle(-std::f32::consts::FRAC_PI_2),
+                    );
+                }
+            }
             painter.rect_stroke(
                 rect.shrink(0.5),
                 0.0,

@@ -46,8 +46,18 @@ fn refresh_pair_rows(
             &view.filter,
         );
         rows.shape_type = Some(settings.shape_type);
+        rows.name_width = rows
+            .rows
+            .iter()
+            .map(|&p| pair_label(&data.matrix, p, view.compact).chars().count())
+            .max()
+            .unwrap_or(0)
+            .clamp(4, MAX_NAME_WIDTH);
     }
 }
+
+/// The widest the name column pads to (characters); longer names still show whole, unaligned.
+const MAX_NAME_WIDTH: usize = 64;
 
 /// A distance in millimetres, for the list.
 fn mm(d: f64) -> String {
@@ -88,7 +98,7 @@ fn pair_panel(
     let mut root = layout.root(ctx, "pair-root");
     let response = egui::Panel::right("pairs")
         .resizable(true)
-        .default_size(500.0)
+        .default_size((0.42 * ctx.content_rect().width()).clamp(500.0, 760.0))
         .show(&mut root, |ui| {
             let skipped = data.skipped();
             let user = m.entries.iter().filter(|e| e.reason == "user").count();
@@ -114,15 +124,15 @@ fn pair_panel(
                 ui.checkbox(&mut v.compact, "compact names")
                     .on_hover_text("write the two names' shared prefix and suffix once");
             });
+            let width = rows.name_width;
             ui.label(
                 egui::RichText::new(format!(
-                    "{:>8} {:>6} {:>8}  {:<14} {:<15} pair (shown: {})",
+                    "{:<width$} {:>8} {:>6} {:>8}  {:<14} exact geometry",
+                    format!("pair (shown: {})", listed.len()),
                     "d mm",
                     "d/mean",
                     "d_min mm",
                     "verdict",
-                    "exact geometry",
-                    listed.len()
                 ))
                 .monospace()
                 .size(11.0),
@@ -144,12 +154,12 @@ fn pair_panel(
                         let cur = d.get(p).copied().unwrap_or(f64::NAN);
                         let verdict = format!("{} {}", if e.skip { "skip " } else { "check" }, e.reason);
                         let text = format!(
-                            "{} {:>6} {}  {verdict:<14} {:<15} {}",
+                            "{:<width$} {} {:>6} {}  {verdict:<14} {}",
+                            pair_label(m, p, v.compact),
                             mm(cur),
                             ratio_text(ratio(cur, s)),
                             mm(s.d_min),
                             data.exact[p],
-                            pair_label(m, p, v.compact)
                         );
                         let rich = egui::RichText::new(text).monospace().size(11.0);
                         let rich = if e.skip { rich.weak() } else { rich };
@@ -263,10 +273,18 @@ fn exact_geometry(
         r.reason.id()
     ));
     let millimetres = |d: f64| format!("{:.2} mm", d * 1000.0);
+    // A bound at or below zero proves no gap: not written as "proved".
+    let bound = |d: f64| {
+        if d > 0.0 {
+            format!("proved >= {}", millimetres(d))
+        } else {
+            format!("hull lower bound {}", millimetres(d))
+        }
+    };
     let mut go_to = None;
     if let Some(c) = &r.certificate {
         ui.label(format!(
-            "certificate: {} after {} boxes; proved >= {} over {:.1}% of the joint box; closest found {}",
+            "certificate: {} after {} boxes; {} over {:.1}% of the joint box; closest found {}",
             match c.status {
                 scm::sample::Status::Certified => "proved",
                 scm::sample::Status::Budget => "budget spent",
@@ -274,7 +292,7 @@ fn exact_geometry(
                 scm::sample::Status::Collides => "collision found",
             },
             c.boxes,
-            millimetres(c.lower_bound),
+            bound(c.lower_bound),
             100.0 * c.cleared,
             millimetres(c.closest)
         ));

@@ -49,6 +49,8 @@ pub struct PairRows {
     pub shape_type: Option<ShapeType>,
     /// Pair indices, in order.
     pub rows: Vec<usize>,
+    /// Characters of the longest pair name among the rows (the name column's width).
+    pub name_width: usize,
 }
 
 /// Signed distances of every pair of the selected type in the current configuration (row-major).
