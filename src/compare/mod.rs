@@ -97,7 +97,8 @@ pub struct Disagreement {
     /// For scm's `never` on the exact geometry: `certified` or `sampled`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub evidence: Option<String>,
-    /// The certificate's proved lower bound on the hulls' distance (m), where one was searched.
+    /// The certificate's proved lower bound on the hulls' distance, or the exact geometry's where its
+    /// second search ran (m), where one was searched.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lower_bound: Option<f64>,
     /// What `witness` is.

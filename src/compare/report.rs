@@ -79,9 +79,9 @@ fn by_kind(list: &[Disagreement]) -> Vec<(String, Vec<&Disagreement>)> {
 /// The pair, the evidence of a `never`, the sampling statistics and the collision at the witness.
 fn evidence_line(d: &Disagreement, statistics: &str) -> String {
     let evidence = match (&d.evidence, d.lower_bound) {
-        // A bound at or below zero proves no gap between the hulls: not written as "proved".
+        // A bound at or below zero proves no gap: not written as "proved".
         (Some(e), Some(lb)) if lb > 0.0 => format!("{e}, proved >= {lb:.4} m; "),
-        (Some(e), Some(lb)) => format!("{e}, hull lower bound {lb:.4} m; "),
+        (Some(e), Some(lb)) => format!("{e}, lower bound {lb:.4} m; "),
         (Some(e), None) => format!("{e}; "),
         _ => String::new(),
     };

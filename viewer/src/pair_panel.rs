@@ -274,17 +274,22 @@ fn exact_geometry(
     ));
     let millimetres = |d: f64| format!("{:.2} mm", d * 1000.0);
     // A bound at or below zero proves no gap: not written as "proved".
-    let bound = |d: f64| {
-        if d > 0.0 {
-            format!("proved >= {}", millimetres(d))
-        } else {
-            format!("hull lower bound {}", millimetres(d))
-        }
-    };
     let mut go_to = None;
     if let Some(c) = &r.certificate {
+        // The bound is the exact geometry's where the second search ran, else the hulls'; at or
+        // below zero it proves no gap and is not written as "proved".
+        let on = if c.exact_queries > 0 {
+            "the exact geometry"
+        } else {
+            "the hulls"
+        };
+        let bound = if c.lower_bound > 0.0 {
+            format!("{on} proved >= {}", millimetres(c.lower_bound))
+        } else {
+            format!("lower bound on {on} {}", millimetres(c.lower_bound))
+        };
         ui.label(format!(
-            "certificate: {} after {} boxes; {} over {:.1}% of the joint box; closest found {}",
+            "certificate: {} after {} boxes; {bound} over {:.1}% of the joint box; closest hull distance found {}",
             match c.status {
                 scm::sample::Status::Certified => "proved",
                 scm::sample::Status::Budget => "budget spent",
@@ -292,7 +297,6 @@ fn exact_geometry(
                 scm::sample::Status::Collides => "collision found",
             },
             c.boxes,
-            bound(c.lower_bound),
             100.0 * c.cleared,
             millimetres(c.closest)
         ));
