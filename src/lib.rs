@@ -15,6 +15,7 @@ pub mod mesh;
 pub mod preprocess;
 pub mod progress;
 pub mod query;
+pub mod rng;
 pub mod robot;
 pub mod sample;
 pub mod shapes;

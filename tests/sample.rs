@@ -394,21 +394,17 @@ fn tables_bracket_the_exact_distance() {
     };
     let dir = common::preprocessed(&robots.join("panda/panda.urdf"), "panda-tables");
     let engine = scm::sample::Engine::load(&Urdd::open(&dir).unwrap(), &ShapeType::ALL).unwrap();
-    let mut rng = scm::sample::Rng::new(11, 0);
+    let mut rng = scm::rng::Rng::new(11, 0);
     // Per rank: checks, and bounds within 1 mm and 5 cm.
     let mut checked = [0usize; 2];
     let mut within = [[0usize; 2]; 2];
-    for (s, set) in engine.sets.iter().enumerate() {
-        for (p, table) in set.tables.iter().enumerate() {
+    for (s, (set, tables)) in engine.sets.iter().zip(&engine.tables).enumerate() {
+        for (p, table) in tables.iter().enumerate() {
             let Some(table) = table else { continue };
             let rank = table.dofs().count();
             for _ in 0..24 {
-                let q: Vec<f64> = engine
-                    .kinematics
-                    .dofs()
-                    .iter()
-                    .map(|d| rng.range(d.lower, d.upper))
-                    .collect();
+                let mut q = Vec::new();
+                scm::robot::random_configuration(engine.kinematics.dofs(), &mut rng, &mut q);
                 let d = engine.pair_distance(s, p, &q);
                 let (lower, upper) = table.bounds(&q);
                 // The exact query's own error is below 1e-6 m (tests/exactness.rs).

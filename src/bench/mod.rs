@@ -20,8 +20,9 @@ pub use truth::MeshTruth;
 use crate::error::Result;
 use crate::progress::Progress;
 use crate::query::{SelfChecker, SkipMode};
-use crate::robot::{Dof, Kinematics};
-use crate::sample::{Rng, SAMPLE, sample_file_name};
+use crate::rng::Rng;
+use crate::robot::{Dof, Kinematics, random_configuration};
+use crate::sample::{SAMPLE, sample_file_name};
 use crate::shapes::ShapeType;
 use crate::urdd::{StageDir, StageRecord, Urdd, json_bytes, sha256_hex};
 use serde::Serialize;
@@ -114,7 +115,11 @@ pub struct BenchReport {
 pub fn configurations(dofs: &[Dof], seed: u64, count: usize) -> Vec<Vec<f64>> {
     let mut rng = Rng::new(seed, BENCH_STREAM);
     (0..count)
-        .map(|_| dofs.iter().map(|d| rng.range(d.lower, d.upper)).collect())
+        .map(|_| {
+            let mut q = Vec::new();
+            random_configuration(dofs, &mut rng, &mut q);
+            q
+        })
         .collect()
 }
 

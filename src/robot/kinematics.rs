@@ -2,6 +2,7 @@
 
 use super::{JointKind, Robot};
 use crate::math::{Pose, Rotation, Vec3};
+use crate::rng::Rng;
 use serde::{Deserialize, Serialize};
 
 /// One value per degree of freedom, in [`Kinematics::dofs`] order.
@@ -36,6 +37,13 @@ impl Dof {
     }
 }
 
+/// A configuration drawn uniformly within the DOF limits from `rng`, one draw per DOF in order,
+/// written into `q`: the one way samples, benchmarks and the viewer draw configurations.
+pub fn random_configuration(dofs: &[Dof], rng: &mut Rng, q: &mut Vec<f64>) {
+    q.clear();
+    q.extend(dofs.iter().map(|d| rng.range(d.lower, d.upper)));
+}
+
 /// A moving joint on the path between two links, placed at some configuration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PathJoint {
@@ -65,6 +73,15 @@ struct Step {
 }
 
 impl Step {
+    /// The DOF that drives the joint (a mimic joint's leader's), if it moves.
+    fn dof(&self) -> Option<usize> {
+        match self.value {
+            Value::Dof(d) => Some(d),
+            Value::Mimic { dof, .. } => dof,
+            Value::Fixed => None,
+        }
+    }
+
     /// The joint's value at configuration `q` (0 for joints that do not move).
     fn value(&self, q: &[f64]) -> f64 {
         match self.value {
@@ -192,6 +209,11 @@ impl Kinematics {
         self.dofs.iter().map(Dof::home).collect()
     }
 
+    /// The number of links.
+    pub fn link_count(&self) -> usize {
+        self.link_count
+    }
+
     /// Pose of every link in the root frame at configuration `q`, written into `poses` (indexed by link).
     pub fn link_poses_into(&self, q: &[f64], poses: &mut Vec<Pose>) {
         poses.clear();
@@ -222,6 +244,14 @@ impl Kinematics {
         (pose(&ca[common..]), pose(&cb[common..]))
     }
 
+    /// The DOF that drives joint `joint` (its own, or its leader's for a mimic joint), if it moves.
+    pub fn joint_dof(&self, joint: usize) -> Option<usize> {
+        self.steps
+            .iter()
+            .find(|s| s.joint == joint)
+            .and_then(Step::dof)
+    }
+
     /// The DOFs that drive a joint on the tree path between links `a` and `b` (a mimic joint through its
     /// leader), ascending: the only ones that can change the pair's relative pose.
     pub fn path_dofs(&self, a: usize, b: usize) -> Vec<usize> {
@@ -230,11 +260,7 @@ impl Kinematics {
         let mut dofs: Vec<usize> = ca[common..]
             .iter()
             .chain(&cb[common..])
-            .filter_map(|&i| match self.steps[i].value {
-                Value::Dof(d) => Some(d),
-                Value::Mimic { dof, .. } => dof,
-                Value::Fixed => None,
-            })
+            .filter_map(|&i| self.steps[i].dof())
             .collect();
         dofs.sort_unstable();
         dofs.dedup();

@@ -2,10 +2,11 @@
 //! the world centres of every shape's spheres and its placed bounding box, laid out so that one pair's
 //! values over the block sit side by side.
 
-use super::engine::Engine;
-use super::rng::Rng;
+use super::sets::PairSet;
 use crate::collision::PlacedBox;
 use crate::math::{Pose, Vec3};
+use crate::rng::Rng;
+use crate::robot::{Kinematics, random_configuration};
 
 /// Samples per block: a chunk is placed a block at a time, and each pair then runs through the block
 /// with its statistics in cache (the order of samples per pair, and so every result, is unchanged).
@@ -33,23 +34,30 @@ pub struct Block {
 
 impl Block {
     /// Draws the next `len` samples from `rng` (the first numbered `first`) and places them.
-    pub(super) fn place(&mut self, engine: &Engine, rng: &mut Rng, first: u64, len: usize) {
-        let (dofs, links) = (engine.kinematics.dofs().len(), engine.robot.links.len());
+    pub(super) fn place(
+        &mut self,
+        kinematics: &Kinematics,
+        sets: &[PairSet],
+        rng: &mut Rng,
+        first: u64,
+        len: usize,
+    ) {
+        let (dofs, links) = (kinematics.dofs().len(), kinematics.link_count());
         self.first = first;
         self.len = len;
         self.q.clear();
         self.links.clear();
         let (mut q, mut poses) = (Vec::with_capacity(dofs), Vec::with_capacity(links));
         for _ in 0..len {
-            engine.draw(rng, &mut q);
-            engine.kinematics.link_poses_into(&q, &mut poses);
+            random_configuration(kinematics.dofs(), rng, &mut q);
+            kinematics.link_poses_into(&q, &mut poses);
             self.q.extend_from_slice(&q);
             self.links.extend_from_slice(&poses);
         }
-        self.outer.resize(engine.sets.len(), Vec::new());
-        self.inner.resize(engine.sets.len(), Vec::new());
-        self.boxes.resize(engine.sets.len(), Vec::new());
-        for (s, set) in engine.sets.iter().enumerate() {
+        self.outer.resize(sets.len(), Vec::new());
+        self.inner.resize(sets.len(), Vec::new());
+        self.boxes.resize(sets.len(), Vec::new());
+        for (s, set) in sets.iter().enumerate() {
             let (outer, inner) = (&mut self.outer[s], &mut self.inner[s]);
             let boxes = &mut self.boxes[s];
             outer.clear();

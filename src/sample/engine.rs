@@ -2,39 +2,23 @@
 //! per chunk, and the per-pair loop that runs exact queries only where the sphere bounds cannot decide.
 
 use super::block::{BLOCK, Block};
-use super::rng::Rng;
+use super::sets::PairSet;
 use super::stats::PairStats;
 use super::table::{self, Table};
 use crate::collision::{
-    CollisionShape, Hint, ShapeSet, Tether, Window, axis_bounds, box_bounds,
-    signed_distance_hinted, sphere_bounds, window,
+    Hint, ShapeSet, Tether, Window, axis_bounds, box_bounds, signed_distance_hinted, sphere_bounds,
+    window,
 };
 use crate::error::Result;
-use crate::math::{Pose, Vec3};
-use crate::robot::{Kinematics, Robot};
+use crate::math::Vec3;
+use crate::rng::Rng;
+use crate::robot::{Kinematics, Robot, random_configuration};
 use crate::shapes::ShapeType;
 use crate::urdd::Urdd;
 use rayon::prelude::*;
 
 /// Samples per chunk; chunk c draws from its own random stream, so sample k is the same in any run.
 pub const CHUNK: u64 = 1024;
-
-/// The shapes of one type, ready for queries, and the pairs to sample.
-#[derive(Debug)]
-pub struct TypeSet {
-    /// The shape type.
-    pub shape_type: ShapeType,
-    /// Shapes in matrix order.
-    pub shapes: Vec<CollisionShape>,
-    /// Link index of each shape.
-    pub links: Vec<usize>,
-    /// All pairs `(i, j)`, `i < j`, in row-major order: the order of every per-pair vector.
-    pub pairs: Vec<(u32, u32)>,
-    /// For each pair, whether any joint between its links moves (else it is rigid: computed once).
-    pub moving: Vec<bool>,
-    /// For each pair that depends on one DOF only, its distance table.
-    pub tables: Vec<Option<Table>>,
-}
 
 /// Everything sampling needs, loaded from a URDD.
 #[derive(Debug)]
@@ -44,7 +28,9 @@ pub struct Engine {
     /// Forward kinematics.
     pub kinematics: Kinematics,
     /// One set per selected type.
-    pub sets: Vec<TypeSet>,
+    pub sets: Vec<PairSet>,
+    /// Per set and pair, the distance table of a pair that depends on one DOF only.
+    pub tables: Vec<Vec<Option<Table>>>,
 }
 
 /// The parameters every chunk of a run shares.
@@ -82,7 +68,7 @@ struct PairRun<'a> {
 
 /// Per-worker scratch space, reused across samples.
 #[derive(Default)]
-pub struct Scratch {
+pub struct ChunkScratch {
     block: Block,
     /// Per set and pair, what the pair's last queries in this chunk left for its next sample.
     hints: Vec<Vec<Hint>>,
@@ -105,34 +91,35 @@ impl Engine {
                 .iter()
                 .map(|&(i, j)| robot.moves_between(links[i as usize], links[j as usize]))
                 .collect();
-            sets.push(TypeSet {
+            sets.push(PairSet {
                 shape_type: t,
                 shapes,
                 links,
                 pairs,
                 moving,
-                tables: Vec::new(),
             });
         }
-        let mut engine = Engine {
+        let tables = sets
+            .iter()
+            .map(|set| {
+                (0..set.pairs.len())
+                    .into_par_iter()
+                    .map(|p| {
+                        if set.moving[p] {
+                            table::build(&robot, &kinematics, set, p)
+                        } else {
+                            None
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        Ok(Engine {
             robot,
             kinematics,
             sets,
-        };
-        for s in 0..engine.sets.len() {
-            let tables = (0..engine.sets[s].pairs.len())
-                .into_par_iter()
-                .map(|p| {
-                    if engine.sets[s].moving[p] {
-                        table::build(&engine, s, p)
-                    } else {
-                        None
-                    }
-                })
-                .collect();
-            engine.sets[s].tables = tables;
-        }
-        Ok(engine)
+            tables,
+        })
     }
 
     /// The configuration of sample `k` under `seed`.
@@ -140,20 +127,9 @@ impl Engine {
         let mut rng = Rng::new(seed, k / CHUNK);
         let mut q = Vec::new();
         for _ in 0..=(k % CHUNK) {
-            self.draw(&mut rng, &mut q);
+            random_configuration(self.kinematics.dofs(), &mut rng, &mut q);
         }
         q
-    }
-
-    /// Draws the next configuration from `rng` into `q`.
-    pub(super) fn draw(&self, rng: &mut Rng, q: &mut Vec<f64>) {
-        q.clear();
-        q.extend(
-            self.kinematics
-                .dofs()
-                .iter()
-                .map(|d| rng.range(d.lower, d.upper)),
-        );
     }
 
     /// The configurations of samples `0..end` under `seed`, one row of DOF values after another.
@@ -163,7 +139,7 @@ impl Engine {
         for chunk in 0..end.div_ceil(CHUNK) {
             let mut rng = Rng::new(seed, chunk);
             for _ in chunk * CHUNK..((chunk + 1) * CHUNK).min(end) {
-                self.draw(&mut rng, &mut q);
+                random_configuration(self.kinematics.dofs(), &mut rng, &mut q);
                 all.extend_from_slice(&q);
             }
         }
@@ -183,8 +159,8 @@ impl Engine {
     ) -> Vec<Vec<Option<Tether>>> {
         let configurations = self.configurations(seed, end);
         let dofs = self.kinematics.dofs().len();
-        (self.sets.iter().zip(stats).enumerate())
-            .map(|(s, (set, stats))| {
+        (self.sets.iter().zip(stats))
+            .map(|(set, stats)| {
                 (0..set.pairs.len())
                     .into_par_iter()
                     .map(|p| {
@@ -195,7 +171,11 @@ impl Engine {
                             return None;
                         }
                         let k = k as usize;
-                        let pair = self.pair_at(s, p, &configurations[k * dofs..(k + 1) * dofs]);
+                        let pair = set.pair_at(
+                            &self.kinematics,
+                            p,
+                            &configurations[k * dofs..(k + 1) * dofs],
+                        );
                         let mut hint = Hint::default();
                         pair.distance_hinted(&mut hint);
                         hint.tether(a, &a.pose(&pair.link_a), b, &b.pose(&pair.link_b))
@@ -207,24 +187,7 @@ impl Engine {
 
     /// Signed distance of pair `p` of set `s` at configuration `q` (exact).
     pub fn pair_distance(&self, s: usize, p: usize, q: &[f64]) -> f64 {
-        self.pair_at(s, p, q).distance()
-    }
-
-    /// Pair `p` of set `s` placed at configuration `q` (forward kinematics of its two links only, from
-    /// their common ancestor).
-    pub fn pair_at(&self, s: usize, p: usize, q: &[f64]) -> PlacedPair<'_> {
-        let set = &self.sets[s];
-        let (i, j) = set.pairs[p];
-        let (a, b) = (&set.shapes[i as usize], &set.shapes[j as usize]);
-        let (link_a, link_b) =
-            self.kinematics
-                .pair_poses(q, set.links[i as usize], set.links[j as usize]);
-        PlacedPair {
-            a,
-            b,
-            link_a,
-            link_b,
-        }
+        self.sets[s].pair_at(&self.kinematics, p, q).distance()
     }
 
     /// Empty statistics for every pair of every set.
@@ -254,11 +217,13 @@ impl Engine {
             while at < last {
                 let len = (last - at).min(BLOCK as u64) as usize;
                 if at < start {
-                    (0..len).for_each(|_| self.draw(&mut rng, &mut skipped));
+                    (0..len).for_each(|_| {
+                        random_configuration(self.kinematics.dofs(), &mut rng, &mut skipped)
+                    });
                     at += len as u64;
                     continue;
                 }
-                block.place(self, &mut rng, at, len);
+                block.place(&self.kinematics, &self.sets, &mut rng, at, len);
                 for (s, (set, (stats, hints))) in self
                     .sets
                     .iter()
@@ -294,7 +259,7 @@ impl Engine {
         run: &ChunkRun,
         chunk: u64,
         acc: &mut [Vec<PairStats>],
-        scratch: &mut Scratch,
+        scratch: &mut ChunkScratch,
     ) {
         let mut rng = Rng::new(run.seed, chunk);
         let first = chunk * CHUNK;
@@ -309,7 +274,7 @@ impl Engine {
         let mut start = first;
         while start < last {
             let len = (last - start).min(BLOCK as u64) as usize;
-            block.place(self, &mut rng, start, len);
+            block.place(&self.kinematics, &self.sets, &mut rng, start, len);
             let sets = self.sets.iter().zip(acc.iter_mut()).zip(&mut scratch.hints);
             for (s, ((set, stats), hints)) in sets.enumerate() {
                 let known = run.known.get(s);
@@ -333,7 +298,7 @@ impl Engine {
     #[allow(clippy::too_many_arguments)]
     fn observe_block(
         &self,
-        set: &TypeSet,
+        set: &PairSet,
         s: usize,
         p: usize,
         block: &Block,
@@ -376,7 +341,7 @@ impl Engine {
     /// it has one.
     fn cheap_bounds(
         &self,
-        set: &TypeSet,
+        set: &PairSet,
         s: usize,
         p: usize,
         block: &Block,
@@ -393,7 +358,7 @@ impl Engine {
         for (kk, out) in out.iter_mut().enumerate() {
             *out = sphere_bounds(a, oa[kk], ia[kk], b, ob[kk], ib[kk]);
         }
-        if let Some(t) = &set.tables[p] {
+        if let Some(t) = &self.tables[s][p] {
             let dofs = self.kinematics.dofs().len();
             for (kk, (lower, upper)) in out.iter_mut().enumerate() {
                 let (lo, hi) = t.bounds(&block.q[kk * dofs..(kk + 1) * dofs]);
@@ -411,7 +376,7 @@ impl Engine {
     #[inline]
     fn observe(
         &self,
-        set: &TypeSet,
+        set: &PairSet,
         s: usize,
         p: usize,
         block: &Block,
@@ -547,38 +512,4 @@ impl Engine {
 #[inline]
 fn control((lower, _): (f64, f64)) -> f64 {
     if lower.is_finite() { lower } else { 0.0 }
-}
-
-/// Two shapes of a pair with their links' poses at some configuration.
-#[derive(Debug, Clone, Copy)]
-pub struct PlacedPair<'a> {
-    a: &'a CollisionShape,
-    b: &'a CollisionShape,
-    link_a: Pose,
-    link_b: Pose,
-}
-
-impl PlacedPair<'_> {
-    /// A lower bound on the signed distance from the enclosing spheres (cheap).
-    pub fn lower_bound(&self) -> f64 {
-        let ca = self.link_a.transform_point(self.a.outer_center);
-        let cb = self.link_b.transform_point(self.b.outer_center);
-        ca.distance(cb) - self.a.outer_radius - self.b.outer_radius
-    }
-
-    /// The exact signed distance.
-    pub fn distance(&self) -> f64 {
-        self.distance_hinted(&mut Hint::default())
-    }
-
-    /// The exact signed distance, starting from and leaving in `hint` what the last query found.
-    pub fn distance_hinted(&self, hint: &mut Hint) -> f64 {
-        signed_distance_hinted(
-            self.a,
-            &self.a.pose(&self.link_a),
-            self.b,
-            &self.b.pose(&self.link_b),
-            hint,
-        )
-    }
 }

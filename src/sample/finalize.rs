@@ -118,7 +118,7 @@ pub(super) fn accumulate(
     chunks
         .par_iter()
         .fold(
-            || (empty(), empty(), engine::Scratch::default()),
+            || (empty(), empty(), engine::ChunkScratch::default()),
             |(total, mut chunk, mut scratch), &c| {
                 if c * CHUNK < scouted {
                     // The scout's samples: chunk 0 carries all of them.
@@ -227,8 +227,15 @@ pub(super) fn finalize(
                     && set.moving[p]
                     && record.d_min < opts.search.margin
                 {
-                    let outcome =
-                        search_pair(engine, s, p, &record.witness.q, opts.seed, &opts.search);
+                    let outcome = search_pair(
+                        &engine.kinematics,
+                        &engine.sets[s],
+                        s,
+                        p,
+                        &record.witness.q,
+                        opts.seed,
+                        &opts.search,
+                    );
                     if outcome.collision {
                         record.reason = infer(
                             &Evidence {

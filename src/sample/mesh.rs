@@ -19,12 +19,13 @@ use super::certify::{Certificate, CertifyParams, PairGeometry, Status, certify};
 use super::engine::{CHUNK, Engine};
 use super::reasons::{Reason, never_upper_bound};
 use super::records::{SampleFile, Witness};
-use super::rng::Rng;
 use crate::collision::{ExactLink, ShapeSet, intersects};
 use crate::error::{Error, Result};
 use crate::math::Pose;
 use crate::preprocess::{exact_links, load_meshes, urdd_urdf};
 use crate::progress::Progress;
+use crate::rng::Rng;
+use crate::robot::random_configuration;
 use crate::shapes::ShapeType;
 use crate::urdd::{FORMAT_VERSION, Urdd};
 use rayon::prelude::*;
@@ -391,7 +392,7 @@ impl Context<'_> {
         'chunks: for chunk in 0..n.div_ceil(CHUNK) {
             let mut rng = Rng::new(self.opts.seed, chunk);
             for k in chunk * CHUNK..((chunk + 1) * CHUNK).min(n) {
-                self.engine.draw(&mut rng, &mut q);
+                random_configuration(self.engine.kinematics.dofs(), &mut rng, &mut q);
                 let c = self.contact(a, b, &q, true);
                 r.examined += 1;
                 r.touches += u64::from(c == Contact::Touch);

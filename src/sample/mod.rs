@@ -12,8 +12,8 @@ mod finalize;
 mod mesh;
 mod reasons;
 mod records;
-mod rng;
 mod search;
+mod sets;
 mod stats;
 mod table;
 
@@ -22,8 +22,8 @@ pub use engine::{CHUNK, Engine};
 pub use mesh::{LinkPairRecord, MESH_FILE, MeshFile, MeshSummary, NeverEvidence, load_mesh_file};
 pub use reasons::{Evidence, Reason, infer, never_upper_bound};
 pub use records::{PairRecord, SampleFile, TypeSummary, Witness};
-pub use rng::Rng;
-pub use search::{SearchOutcome, SearchParams, path_dofs, search_pair};
+pub use search::{SearchOutcome, SearchParams, search_pair};
+pub use sets::{PairSet, PlacedPair};
 pub use stats::PairStats;
 
 use crate::error::{Error, Result};

@@ -2,8 +2,9 @@
 //! came close, sample densely the joints on the kinematic path between its two links (no other joint can
 //! change its distance) and minimise the distance locally from the best starts.
 
-use super::engine::Engine;
-use super::rng::Rng;
+use super::sets::PairSet;
+use crate::rng::Rng;
+use crate::robot::Kinematics;
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the targeted search.
@@ -43,51 +44,32 @@ pub struct SearchOutcome {
     pub evaluations: u64,
 }
 
-/// DOF indices whose joints lie between the pair's links (mimic joints count through their leader).
-pub fn path_dofs(engine: &Engine, link_a: usize, link_b: usize) -> Vec<usize> {
-    engine.kinematics.path_dofs(link_a, link_b)
-}
-
-/// The DOF that moves joint `joint` (its own, or its leader's for a mimic joint), if it moves.
-pub fn joint_dof(engine: &Engine, joint: usize) -> Option<usize> {
-    let leader = engine.robot.joints[joint].mimic.map_or(joint, |m| m.joint);
-    engine
-        .kinematics
-        .dofs()
-        .iter()
-        .position(|d| d.joint == leader)
-}
-
-/// Searches pair `pair` of set `set`, starting from the sampling witness `witness`.
+/// Searches pair `pair` of `set` (set number `set_index` of the run, which picks its random
+/// stream), starting from the sampling witness `witness`.
 pub fn search_pair(
-    engine: &Engine,
-    set: usize,
+    kinematics: &Kinematics,
+    set: &PairSet,
+    set_index: usize,
     pair: usize,
     witness: &[f64],
     seed: u64,
     params: &SearchParams,
 ) -> SearchOutcome {
-    let (i, j) = engine.sets[set].pairs[pair];
-    let links = &engine.sets[set].links;
-    let dofs = path_dofs(engine, links[i as usize], links[j as usize]);
+    let (la, lb) = set.pair_links(pair);
+    let dofs = kinematics.path_dofs(la, lb);
     let bounds: Vec<(f64, f64)> = dofs
         .iter()
-        .map(|&d| {
-            (
-                engine.kinematics.dofs()[d].lower,
-                engine.kinematics.dofs()[d].upper,
-            )
-        })
+        .map(|&d| (kinematics.dofs()[d].lower, kinematics.dofs()[d].upper))
         .collect();
     let mut evaluations = 0u64;
     let mut eval = |q: &[f64]| {
         evaluations += 1;
-        engine.pair_distance(set, pair, q)
+        set.pair_at(kinematics, pair, q).distance()
     };
 
     // Dense sampling of the path joints; keep the best starts (the witness first).
     let mut starts: Vec<(f64, Vec<f64>)> = vec![(eval(witness), witness.to_vec())];
-    let mut rng = Rng::new(seed, (set as u64) << 40 | pair as u64);
+    let mut rng = Rng::new(seed, (set_index as u64) << 40 | pair as u64);
     let mut q = witness.to_vec();
     let keep = params.starts.max(1);
     for _ in 0..params.dense_samples {
@@ -96,7 +78,7 @@ pub fn search_pair(
         }
         // No collision so far, so every kept start is positive: a sample whose sphere lower bound
         // exceeds the worst kept start can neither collide nor become a start.
-        let placed = engine.pair_at(set, pair, &q);
+        let placed = set.pair_at(kinematics, pair, &q);
         if starts.len() >= keep && placed.lower_bound() > starts[starts.len() - 1].0 {
             continue;
         }

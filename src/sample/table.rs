@@ -6,10 +6,9 @@
 //! where those bounds cannot rule out a new minimum, maximum or collision verdict, so the results stay
 //! exact.
 
-use super::engine::Engine;
-use super::search::{joint_dof, path_dofs};
+use super::sets::PairSet;
 use crate::collision::Hint;
-use crate::robot::JointKind;
+use crate::robot::{JointKind, Kinematics, Robot};
 
 /// Most DOFs a table spans.
 pub const MAX_RANK: usize = 2;
@@ -105,25 +104,21 @@ impl Table {
     }
 }
 
-/// The table of pair `p` of set `s`, or `None` when the pair depends on no DOF or on more than
+/// The table of pair `p` of `set`, or `None` when the pair depends on no DOF or on more than
 /// [`MAX_RANK`], or when both shapes are spheres (whose sphere bounds are exact already).
-pub fn build(engine: &Engine, s: usize, p: usize) -> Option<Table> {
-    let set = &engine.sets[s];
+pub fn build(robot: &Robot, kinematics: &Kinematics, set: &PairSet, p: usize) -> Option<Table> {
     let (i, j) = set.pairs[p];
     let (a, b) = (i as usize, j as usize);
     if set.shapes[a].is_ball() && set.shapes[b].is_ball() {
         return None;
     }
     let (la, lb) = (set.links[a], set.links[b]);
-    let dofs = path_dofs(engine, la, lb);
+    let dofs = kinematics.path_dofs(la, lb);
     if dofs.is_empty() || dofs.len() > MAX_RANK {
         return None;
     }
-    let lipschitz = lipschitz(engine, s, p, &dofs);
-    let spans: Vec<f64> = dofs
-        .iter()
-        .map(|&d| engine.kinematics.dofs()[d].span())
-        .collect();
+    let lipschitz = lipschitz(robot, kinematics, set, p, &dofs);
+    let spans: Vec<f64> = dofs.iter().map(|&d| kinematics.dofs()[d].span()).collect();
     let points = grid(&lipschitz, &spans);
     let mut axes: Vec<Axis> = dofs
         .iter()
@@ -133,7 +128,7 @@ pub fn build(engine: &Engine, s: usize, p: usize) -> Option<Table> {
             let step = span / (points - 1) as f64;
             Axis {
                 dof,
-                lower: engine.kinematics.dofs()[dof].lower,
+                lower: kinematics.dofs()[dof].lower,
                 step,
                 inv_step: 1.0 / step,
                 points,
@@ -148,7 +143,7 @@ pub fn build(engine: &Engine, s: usize, p: usize) -> Option<Table> {
         stride *= axis.points;
     }
     // Row by row, each query starting from the last one's points (neighbours on the grid are close).
-    let mut q = engine.kinematics.home();
+    let mut q = kinematics.home();
     let mut hint = Hint::default();
     let values: Vec<f64> = (0..stride)
         .map(|index| {
@@ -156,7 +151,7 @@ pub fn build(engine: &Engine, s: usize, p: usize) -> Option<Table> {
                 let g = index / axis.stride % axis.points;
                 q[axis.dof] = axis.lower + g as f64 * axis.step;
             }
-            let pair = engine.pair_at(s, p, &q);
+            let pair = set.pair_at(kinematics, p, &q);
             pair.distance_hinted(&mut hint)
         })
         .collect();
@@ -216,42 +211,49 @@ fn grid(lipschitz: &[f64], spans: &[f64]) -> Vec<usize> {
 /// axis (taken at home, plus how far the joints in between can shift the shape); and turning a joint
 /// that hangs from the links' common ancestor is turning the other shape back about the same axis, so
 /// the nearer of the two shapes bounds its rate (with one joint on the path, the pair's exact reach).
-fn lipschitz(engine: &Engine, s: usize, p: usize, dofs: &[usize]) -> Vec<f64> {
-    let set = &engine.sets[s];
+fn lipschitz(
+    robot: &Robot,
+    kinematics: &Kinematics,
+    set: &PairSet,
+    p: usize,
+    dofs: &[usize],
+) -> Vec<f64> {
     let (i, j) = set.pairs[p];
     let (a, b) = (i as usize, j as usize);
     let (la, lb) = (set.links[a], set.links[b]);
-    let poses = engine.kinematics.link_poses(&engine.kinematics.home());
-    let path: Vec<usize> = engine
-        .robot
+    let poses = kinematics.link_poses(&kinematics.home());
+    let path: Vec<usize> = robot
         .path_joints(la, lb)
         .into_iter()
-        .filter(|&j| engine.robot.joints[j].kind.is_actuated())
+        .filter(|&j| robot.joints[j].kind.is_actuated())
         .collect();
     // The shape's farthest point from the joint's axis.
     let about = |k: usize, link: usize, joint: usize| -> f64 {
-        let jt = &engine.robot.joints[joint];
+        let jt = &robot.joints[joint];
         let frame = poses[jt.parent] * jt.origin;
         set.shapes[k].reach(&poses[link], frame.translation, frame.rotation * jt.axis)
     };
     // The distance's rate of change per unit of the joint's DOF, for a shape of that reach turned
     // (or, prismatic, shifted) by the joint; and how far the joint moves such a shape over its range.
     let rate = |joint: usize| {
-        engine.robot.joints[joint]
+        robot.joints[joint]
             .mimic
             .map_or(1.0, |m| m.multiplier.abs())
     };
-    let span =
-        |joint: usize| joint_dof(engine, joint).map_or(0.0, |d| engine.kinematics.dofs()[d].span());
+    let span = |joint: usize| {
+        kinematics
+            .joint_dof(joint)
+            .map_or(0.0, |d| kinematics.dofs()[d].span())
+    };
     let speed = |joint: usize, reach: f64| -> f64 {
-        match engine.robot.joints[joint].kind {
+        match robot.joints[joint].kind {
             JointKind::Revolute | JointKind::Continuous => rate(joint) * reach,
             _ => rate(joint),
         }
     };
     let sweep = |joint: usize, reach: f64| -> f64 {
         let turn = rate(joint) * span(joint);
-        match engine.robot.joints[joint].kind {
+        match robot.joints[joint].kind {
             // A point at distance r from the axis turned by an angle t moves 2 r sin(t / 2).
             JointKind::Revolute | JointKind::Continuous => reach * turn.min(2.0),
             _ => turn,
@@ -260,7 +262,7 @@ fn lipschitz(engine: &Engine, s: usize, p: usize, dofs: &[usize]) -> Vec<f64> {
     // Per side (the path runs up from `a`'s link and down to `b`'s): its joints bottom-up, each
     // turning the side's shape at the shape's reach about its axis plus how far the joints below
     // shift it, and how far the side's joints shift the shape in all.
-    let above_a = engine.robot.path_joints(la, engine.robot.root);
+    let above_a = robot.path_joints(la, robot.root);
     let sides = [(a, la, true), (b, lb, false)];
     let mut rates: Vec<(usize, f64)> = Vec::new();
     let mut moved = [0.0; 2];
@@ -285,7 +287,9 @@ fn lipschitz(engine: &Engine, s: usize, p: usize, dofs: &[usize]) -> Vec<f64> {
     }
     let mut lipschitz = vec![0.0; dofs.len()];
     for (joint, v) in rates {
-        if let Some(slot) = joint_dof(engine, joint).and_then(|d| dofs.iter().position(|&x| x == d))
+        if let Some(slot) = kinematics
+            .joint_dof(joint)
+            .and_then(|d| dofs.iter().position(|&x| x == d))
         {
             lipschitz[slot] += v;
         }

@@ -8,7 +8,7 @@
 //! `tests/fuzz_readers.rs` (a few thousand, in CI).
 #![allow(dead_code)]
 
-use scm::sample::Rng;
+use scm::rng::Rng;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};

@@ -5,7 +5,7 @@
 use crate::state::{Joints, Settings, UiLayout, UiOrder, Viewer};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
-use scm::sample::Rng;
+use scm::rng::Rng;
 use scm::shapes::ShapeType;
 
 /// The left panel.
@@ -19,8 +19,9 @@ impl Plugin for JointPanelPlugin {
 
 /// A configuration drawn uniformly within the limits from `seed`.
 pub fn random_configuration(dofs: &[scm::robot::Dof], seed: u64) -> Vec<f64> {
-    let mut rng = Rng::new(seed, 0x7669_6577);
-    dofs.iter().map(|d| rng.range(d.lower, d.upper)).collect()
+    let mut q = Vec::new();
+    scm::robot::random_configuration(dofs, &mut Rng::new(seed, 0x7669_6577), &mut q);
+    q
 }
 
 /// The DOFs whose name contains every word of `filter` (case-insensitive), in configuration order.

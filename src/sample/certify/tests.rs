@@ -2,8 +2,8 @@
 
 use super::*;
 use crate::math::{Pose, Rotation, Vec3};
+use crate::rng::Rng;
 use crate::robot::{UrdfOptions, parse_urdf};
-use crate::sample::Rng;
 use crate::shapes::{Geometry, Obb, Sphere};
 use std::path::Path;
 

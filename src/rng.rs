@@ -1,5 +1,6 @@
 //! A small, fast, seedable generator (SplitMix64 seeding xoshiro256++), so sample k's configuration
-//! depends only on the seed and k, never on threads or shards.
+//! depends only on the seed and k, never on threads or shards. Random configurations are drawn with it
+//! by [`crate::robot::random_configuration`].
 
 /// xoshiro256++ by Blackman and Vigna.
 #[derive(Debug, Clone)]

@@ -1,0 +1,79 @@
+//! The shapes of the sampled types, ready for queries: per type its shapes, their links and the pairs
+//! to sample, and one pair placed at a configuration. What the block placement, the distance tables,
+//! the targeted search and the engine all query, so none of them needs the engine itself.
+
+use crate::collision::{CollisionShape, Hint, signed_distance_hinted};
+use crate::math::Pose;
+use crate::robot::Kinematics;
+use crate::shapes::ShapeType;
+
+/// The shapes of one type, ready for queries, and the pairs to sample.
+#[derive(Debug)]
+pub struct PairSet {
+    /// The shape type.
+    pub shape_type: ShapeType,
+    /// Shapes in matrix order.
+    pub shapes: Vec<CollisionShape>,
+    /// Link index of each shape.
+    pub links: Vec<usize>,
+    /// All pairs `(i, j)`, `i < j`, in row-major order: the order of every per-pair vector.
+    pub pairs: Vec<(u32, u32)>,
+    /// For each pair, whether any joint between its links moves (else it is rigid: computed once).
+    pub moving: Vec<bool>,
+}
+
+impl PairSet {
+    /// The link indices of pair `p`'s two shapes.
+    pub fn pair_links(&self, p: usize) -> (usize, usize) {
+        let (i, j) = self.pairs[p];
+        (self.links[i as usize], self.links[j as usize])
+    }
+
+    /// Pair `p` placed at configuration `q` (forward kinematics of its two links only, from their
+    /// common ancestor).
+    pub fn pair_at(&self, kinematics: &Kinematics, p: usize, q: &[f64]) -> PlacedPair<'_> {
+        let (i, j) = self.pairs[p];
+        let (la, lb) = self.pair_links(p);
+        let (link_a, link_b) = kinematics.pair_poses(q, la, lb);
+        PlacedPair {
+            a: &self.shapes[i as usize],
+            b: &self.shapes[j as usize],
+            link_a,
+            link_b,
+        }
+    }
+}
+
+/// Two shapes of a pair with their links' poses at some configuration.
+#[derive(Debug, Clone, Copy)]
+pub struct PlacedPair<'a> {
+    pub(super) a: &'a CollisionShape,
+    pub(super) b: &'a CollisionShape,
+    pub(super) link_a: Pose,
+    pub(super) link_b: Pose,
+}
+
+impl PlacedPair<'_> {
+    /// A lower bound on the signed distance from the enclosing spheres (cheap).
+    pub fn lower_bound(&self) -> f64 {
+        let ca = self.link_a.transform_point(self.a.outer_center);
+        let cb = self.link_b.transform_point(self.b.outer_center);
+        ca.distance(cb) - self.a.outer_radius - self.b.outer_radius
+    }
+
+    /// The exact signed distance.
+    pub fn distance(&self) -> f64 {
+        self.distance_hinted(&mut Hint::default())
+    }
+
+    /// The exact signed distance, starting from and leaving in `hint` what the last query found.
+    pub fn distance_hinted(&self, hint: &mut Hint) -> f64 {
+        signed_distance_hinted(
+            self.a,
+            &self.a.pose(&self.link_a),
+            self.b,
+            &self.b.pose(&self.link_b),
+            hint,
+        )
+    }
+}
