@@ -10,14 +10,13 @@ use crate::progress::Progress;
 use crate::sample::{NeverEvidence, SAMPLE, load_mesh_file};
 use crate::shapes::ShapeType;
 use crate::urdd::{StageDir, StageRecord, Urdd, json_bytes, sha256_hex};
+use crate::urdd::{compact_json, json_value, parameters};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// Name of the export stage in the manifest, and its default folder.
-pub const EXPORT: &str = "export";
-/// The file in an export folder that lists what the export wrote.
-pub const EXPORT_INDEX: &str = "export.json";
+pub use crate::urdd::EXPORT;
+pub use crate::urdd::EXPORT_INDEX;
 
 /// An output format of `scm export`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -216,13 +215,7 @@ pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportRep
 
     let robot = urdd.robot()?;
     let robot_name = robot.robot.name.clone();
-    let sampled: Vec<ShapeType> = ShapeType::ALL
-        .into_iter()
-        .filter(|t| {
-            urdd.stage(SAMPLE)
-                .is_ok_and(|s| s.outputs.contains(&crate::sample::sample_file_name(*t)))
-        })
-        .collect();
+    let sampled = urdd.sampled_types()?;
     progress.start("exporting", sampled.len() as u64 + 1);
     let mut matrices = Vec::new();
     for t in &sampled {
@@ -375,7 +368,7 @@ pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportRep
             key,
             tool_version: crate::VERSION.into(),
             inputs: Vec::new(),
-            parameters: serde_json::to_value(opts).unwrap_or_default(),
+            parameters: json_value("export parameters", opts)?,
             folder: folder_in(&opts.urdd, &out),
             outputs: report
                 .files
@@ -384,7 +377,7 @@ pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportRep
                 .chain([EXPORT_INDEX.to_string()])
                 .collect(),
             stamps: Default::default(),
-            summary: serde_json::to_value(&report.types).unwrap_or_default(),
+            summary: json_value("export summary", &report.types)?,
             depends_on: [(SAMPLE.to_string(), sample_key)].into(),
         },
     )?;
@@ -405,12 +398,12 @@ fn write_paper_modules(
     for (folder, json, yaml) in [
         (
             paper::SKIPS_MODULE,
-            serde_json::to_vec(&skips).unwrap_or_default(),
+            compact_json(paper::SKIPS_MODULE, &skips)?,
             serde_saphyr::to_string(&skips).map_err(yaml_error)?,
         ),
         (
             paper::STATISTICS_MODULE,
-            serde_json::to_vec(&stats).unwrap_or_default(),
+            compact_json(paper::STATISTICS_MODULE, &stats)?,
             serde_saphyr::to_string(&stats).map_err(yaml_error)?,
         ),
     ] {
@@ -494,20 +487,16 @@ fn stage_key(urdd: &Urdd, opts: &ExportOptions, sample_key: &str) -> Result<Stri
         })?),
         None => None,
     };
-    let mut options = serde_json::to_value(opts).unwrap_or_default();
-    if let Some(m) = options.as_object_mut() {
-        m.remove("urdd");
-    }
-    let material = serde_json::json!({
-        "stage": EXPORT,
-        "tool_version": crate::VERSION,
-        "sample": sample_key,
-        "imported": hash_of(&layers.join(IMPORTED_FILE))?,
-        "user": hash_of(&layers.join(USER_FILE))?,
-        "merge_into": merge,
-        "options": options,
-    });
-    Ok(sha256_hex(&json_bytes(&material)))
+    Ok(crate::urdd::stage_key(
+        EXPORT,
+        serde_json::json!({
+            "sample": sample_key,
+            "imported": hash_of(&layers.join(IMPORTED_FILE))?,
+            "user": hash_of(&layers.join(USER_FILE))?,
+            "merge_into": merge,
+            "options": parameters(EXPORT, opts)?,
+        }),
+    ))
 }
 
 /// Refuses to replace a folder that exists, is not empty and was not written by `scm export`.

@@ -4,7 +4,7 @@
 mod common;
 
 use scm::bench::{BenchOptions, bench};
-use scm::collision::{ShapeSet, signed_distance};
+use scm::collision::signed_distance;
 use scm::progress::NoProgress;
 use scm::query::{SelfChecker, SkipMode};
 use scm::robot::Kinematics;
@@ -54,7 +54,7 @@ fn configurations(checker: &SelfChecker, n: usize) -> Vec<Vec<f64>> {
 /// Exact signed distance of every pair `a < b` (row-major), no culling, straight from the shapes.
 fn brute_force(urdd: &Urdd, t: ShapeType, q: &[f64]) -> Vec<((usize, usize), f64)> {
     let robot = urdd.robot().unwrap().robot;
-    let set = ShapeSet::load(urdd, t, robot.links.len()).unwrap();
+    let set = urdd.collision_shapes(t, robot.links.len()).unwrap();
     let poses = Kinematics::new(&robot).link_poses(q);
     let n = set.shapes.len();
     let mut out = Vec::new();

@@ -22,14 +22,14 @@ use crate::progress::Progress;
 use crate::query::{SelfChecker, SkipMode};
 use crate::rng::Rng;
 use crate::robot::{Dof, Kinematics, random_configuration};
-use crate::sample::{SAMPLE, sample_file_name};
+use crate::sample::SAMPLE;
 use crate::shapes::ShapeType;
-use crate::urdd::{StageDir, StageRecord, Urdd, json_bytes, sha256_hex};
+use crate::urdd::{StageDir, StageRecord, Urdd, json_bytes};
+use crate::urdd::{parameters, stage_key};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-/// Folder of the bench output.
-pub const BENCH: &str = "bench";
+pub use crate::urdd::BENCH;
 
 /// The random stream bench configurations come from. Sampling uses streams 0, 1, 2, ... (one per chunk
 /// of 1,024 samples), so this one never repeats a sampled configuration, whatever the seed.
@@ -125,12 +125,8 @@ pub fn configurations(dofs: &[Dof], seed: u64, count: usize) -> Vec<Vec<f64>> {
 
 /// The types to measure: the requested ones, or every type the sample stage has a file for.
 fn selected_types(urdd: &Urdd, requested: &[ShapeType]) -> Result<Vec<ShapeType>> {
-    let outputs = &urdd.stage(SAMPLE)?.outputs;
     Ok(if requested.is_empty() {
-        ShapeType::ALL
-            .into_iter()
-            .filter(|t| outputs.contains(&sample_file_name(*t)))
-            .collect()
+        urdd.sampled_types()?
     } else {
         requested.to_vec()
     })
@@ -242,10 +238,13 @@ fn write(urdd: &mut Urdd, report: &BenchReport) -> Result<()> {
     stage.write("bench.md", render(report).as_bytes())?;
     stage.write("bench.json", &json_bytes(report))?;
     stage.commit()?;
-    let parameters = serde_json::to_value(&report.options).unwrap_or_default();
+    let parameters = parameters(BENCH, &report.options)?;
     let sample_key = urdd.stage(SAMPLE)?.key.clone();
     // Timings differ between runs, so bench always runs; the key only identifies what it measured.
-    let key = sha256_hex(format!("{sample_key}\n{parameters}").as_bytes());
+    let key = stage_key(
+        BENCH,
+        serde_json::json!({ "sample": sample_key, "parameters": parameters }),
+    );
     let robot = report.robot.clone();
     urdd.record_stage(
         BENCH,

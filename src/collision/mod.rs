@@ -8,7 +8,6 @@ mod box_bound;
 mod epa;
 mod exact;
 mod hull_support;
-mod load;
 mod polish;
 #[cfg(test)]
 mod test_shapes;
@@ -17,7 +16,6 @@ mod window;
 pub use box_bound::{BoundingBox, PlacedBox, box_bounds};
 pub use exact::{ExactError, ExactLink, winding_number};
 pub use hull_support::HullSupport;
-pub use load::ShapeSet;
 pub use polish::{closest_on_segments, closest_on_triangle};
 pub use window::{Hint, Last, Tether, Window, window};
 

@@ -8,10 +8,7 @@ use crate::matrix::{
 };
 use crate::query::{Scratch, SelfChecker, SkipMode};
 use crate::robot::{Kinematics, Robot};
-use crate::sample::{
-    LinkPairRecord, PairRecord, Reason, SAMPLE, SearchOutcome, Status, load_mesh_file,
-    sample_file_name,
-};
+use crate::sample::{LinkPairRecord, PairRecord, Reason, SearchOutcome, Status, load_mesh_file};
 use crate::shapes::ShapeType;
 use crate::urdd::Urdd;
 use serde::{Serialize, Serializer};
@@ -441,8 +438,7 @@ impl Probe {
     /// The decomposition's hulls when they were sampled (the closest convex stand-in for the mesh),
     /// else the link hulls.
     fn load(urdd: &Urdd) -> Result<Probe> {
-        let sampled = &urdd.fresh_stage(SAMPLE)?.outputs;
-        let t = if sampled.contains(&sample_file_name(ShapeType::DecompHull)) {
+        let t = if urdd.sampled_types()?.contains(&ShapeType::DecompHull) {
             ShapeType::DecompHull
         } else {
             ShapeType::Hull

@@ -7,8 +7,7 @@ use crate::urdd::{FORMAT_VERSION, Urdd, json_bytes, read_json_file, write_atomic
 use serde::{Deserialize, Serialize};
 use std::collections::{HashMap, HashSet};
 
-/// The imported layer's file inside the URDD.
-pub const IMPORTED_FILE: &str = "imported.json";
+pub use crate::urdd::IMPORTED_FILE;
 
 /// One link pair from the SRDF.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]

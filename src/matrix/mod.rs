@@ -20,8 +20,7 @@ use crate::shapes::ShapeType;
 use crate::urdd::{ShapeRecord, Urdd};
 use serde::{Deserialize, Serialize};
 
-/// Folder of the imported and user layers inside a URDD.
-pub const LAYERS: &str = "layers";
+pub use crate::urdd::LAYERS;
 
 /// Which layer decided a pair's verdict.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -213,19 +212,17 @@ pub fn pair_index(n: usize, a: usize, b: usize) -> usize {
 
 /// The sample output of one type; the stage must exist, be current and include the type.
 pub fn load_sample(urdd: &Urdd, shape_type: ShapeType) -> Result<SampleFile> {
-    let stage = urdd.fresh_stage(SAMPLE)?;
     let name = sample_file_name(shape_type);
-    if !stage.outputs.contains(&name) {
-        return Err(Error::input(
+    urdd.sample_output(&name)?.ok_or_else(|| {
+        Error::input(
             &urdd.dir().join(SAMPLE),
             name,
             format!(
                 "type {shape_type} was not sampled; rerun `scm sample {} --types ...` including it",
                 urdd.dir().display()
             ),
-        ));
-    }
-    urdd.read_json(SAMPLE, &name)
+        )
+    })
 }
 
 /// The two keys in canonical order.

@@ -7,8 +7,7 @@ use crate::urdd::{FORMAT_VERSION, Urdd, json_bytes, read_json_file, write_atomic
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 
-/// The user layer's file inside the URDD.
-pub const USER_FILE: &str = "user.json";
+pub use crate::urdd::USER_FILE;
 
 /// One mark: the pair `{a, b}` of `shape_type` is skipped (`skip`) or checked (`!skip`).
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]

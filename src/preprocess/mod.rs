@@ -12,6 +12,7 @@ use crate::error::{Error, Result};
 use crate::progress::Progress;
 use crate::robot::{Kinematics, PackagePaths, Robot, ShapeSource, UrdfOptions, load_urdf};
 use crate::shapes::{Geometry, LinkShapes, PerType, ShapeParams, ShapeType, build_link_shapes};
+use crate::urdd::stage_key;
 use crate::urdd::{
     FORMAT_VERSION, GeometryRecord, InputFile, LinkRecord, PREPROCESS, RobotRecord, ShapeFile,
     ShapeRecord, StageDir, StageRecord, Urdd, json_bytes, sha256_hex, shape_file_name, to_obj,
@@ -70,11 +71,15 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
         },
     )?;
     let inputs = hash_inputs(&robot, &urdf)?;
-    let mut parameters = serde_json::to_value(&opts.params).unwrap_or_default();
+    let mut parameters = crate::urdd::parameters(PREPROCESS, &opts.params)?;
     if let Some(map) = parameters.as_object_mut() {
         map.insert("visual_fallback".into(), opts.visual_fallback.into());
     }
-    let key = stage_key(&inputs, &parameters);
+    let hashes: Vec<&str> = inputs.iter().map(|i| i.sha256.as_str()).collect();
+    let key = stage_key(
+        PREPROCESS,
+        serde_json::json!({ "inputs": hashes, "parameters": parameters }),
+    );
     let _lock = Urdd::lock_for_writing(&opts.out, progress)?;
     let mut urdd = Urdd::open_or_new(&opts.out, &robot.name)?;
     let kinematics = Kinematics::new(&robot);
@@ -286,17 +291,4 @@ fn hash_inputs(robot: &Robot, urdf: &Path) -> Result<Vec<InputFile>> {
         .collect::<Result<_>>()?;
     inputs.extend(hashed);
     Ok(inputs)
-}
-
-/// The stage key: format and tool version, input contents, parameters. Paths do not count.
-fn stage_key(inputs: &[InputFile], parameters: &serde_json::Value) -> String {
-    let hashes: Vec<&str> = inputs.iter().map(|i| i.sha256.as_str()).collect();
-    let material = serde_json::json!({
-        "stage": PREPROCESS,
-        "format_version": FORMAT_VERSION,
-        "tool_version": crate::VERSION,
-        "inputs": hashes,
-        "parameters": parameters,
-    });
-    sha256_hex(&json_bytes(&material))
 }

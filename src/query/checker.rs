@@ -2,12 +2,12 @@
 
 use super::SkipMode;
 use super::skips::skip_reasons;
-use crate::collision::{ShapeSet, intersects, signed_distance, sphere_bounds, witness_points};
+use crate::collision::{intersects, signed_distance, sphere_bounds, witness_points};
 use crate::error::{Error, Result};
 use crate::math::{Pose, Vec3};
 use crate::robot::{Dof, Kinematics};
 use crate::shapes::ShapeType;
-use crate::urdd::{ShapeRecord, Urdd};
+use crate::urdd::{ShapeRecord, TypeShapes, Urdd};
 use serde::Serialize;
 use std::path::Path;
 
@@ -21,7 +21,7 @@ use std::path::Path;
 pub struct SelfChecker {
     mode: SkipMode,
     kinematics: Kinematics,
-    set: ShapeSet,
+    set: TypeShapes,
     /// The pairs to check, `a < b`.
     pairs: Vec<(u32, u32)>,
     /// Per pair of the whole matrix (row-major), the skip reason id, `None` when checked.
@@ -86,7 +86,7 @@ impl SelfChecker {
     /// layers applied; the sample stage must be current and include `t`).
     pub fn load(urdd: &Urdd, t: ShapeType, mode: SkipMode) -> Result<SelfChecker> {
         let robot = urdd.robot()?.robot;
-        let set = ShapeSet::load(urdd, t, robot.links.len())?;
+        let set = urdd.collision_shapes(t, robot.links.len())?;
         let n = set.shapes.len();
         let reasons = match mode {
             SkipMode::Skips => skip_reasons(urdd, t, n)?,
@@ -104,7 +104,7 @@ impl SelfChecker {
     /// `a < b`), the skip reason id or `None` for pairs to check.
     pub fn new(
         kinematics: Kinematics,
-        set: ShapeSet,
+        set: TypeShapes,
         mode: SkipMode,
         reasons: Vec<Option<String>>,
     ) -> SelfChecker {

@@ -6,15 +6,14 @@ use super::sets::PairSet;
 use super::stats::PairStats;
 use super::table::{self, Table};
 use crate::collision::{
-    Hint, ShapeSet, Tether, Window, axis_bounds, box_bounds, signed_distance_hinted, sphere_bounds,
-    window,
+    Hint, Tether, Window, axis_bounds, box_bounds, signed_distance_hinted, sphere_bounds, window,
 };
 use crate::error::Result;
 use crate::math::Vec3;
 use crate::rng::Rng;
 use crate::robot::{Kinematics, Robot, random_configuration};
 use crate::shapes::ShapeType;
-use crate::urdd::Urdd;
+use crate::urdd::{TypeShapes, Urdd};
 use rayon::prelude::*;
 
 /// Samples per chunk; chunk c draws from its own random stream, so sample k is the same in any run.
@@ -82,7 +81,7 @@ impl Engine {
         let kinematics = Kinematics::new(&robot);
         let mut sets = Vec::new();
         for &t in types {
-            let ShapeSet { shapes, links, .. } = ShapeSet::load(urdd, t, robot.links.len())?;
+            let TypeShapes { shapes, links, .. } = urdd.collision_shapes(t, robot.links.len())?;
             let n = shapes.len() as u32;
             let pairs: Vec<(u32, u32)> = (0..n)
                 .flat_map(|i| (i + 1..n).map(move |j| (i, j)))

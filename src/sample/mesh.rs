@@ -19,7 +19,7 @@ use super::certify::{Certificate, CertifyParams, PairGeometry, Status, certify};
 use super::engine::{CHUNK, Engine};
 use super::reasons::{Reason, never_upper_bound};
 use super::records::{SampleFile, Witness};
-use crate::collision::{ExactLink, ShapeSet, intersects};
+use crate::collision::{ExactLink, intersects};
 use crate::error::{Error, Result};
 use crate::math::Pose;
 use crate::preprocess::{exact_links, load_meshes, urdd_urdf};
@@ -27,13 +27,12 @@ use crate::progress::Progress;
 use crate::rng::Rng;
 use crate::robot::random_configuration;
 use crate::shapes::ShapeType;
-use crate::urdd::{FORMAT_VERSION, Urdd};
+use crate::urdd::{FORMAT_VERSION, TypeShapes, Urdd};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 
-/// The `mesh` type's file in the sample folder.
-pub const MESH_FILE: &str = "mesh.json";
+pub use crate::urdd::MESH_FILE;
 
 /// Pairs certified side by side when the run's box budget could run out: each batch shares what is
 /// left of it equally, so the result does not depend on the thread count. When every pair can have its
@@ -146,7 +145,7 @@ pub(super) fn mesh_verdicts(
     let robot = &engine.robot;
     let urdf = urdd_urdf(urdd)?;
     let exact = exact_links(robot, &load_meshes(robot, &urdf)?, &urdf)?;
-    let hulls = ShapeSet::load(urdd, ShapeType::Hull, robot.links.len())?;
+    let hulls = urdd.collision_shapes(ShapeType::Hull, robot.links.len())?;
     let mut hull_of: Vec<Option<usize>> = vec![None; robot.links.len()];
     for (i, &link) in hulls.links.iter().enumerate() {
         hull_of[link] = Some(i);
@@ -280,7 +279,7 @@ struct Context<'a> {
     engine: &'a Engine,
     opts: &'a SampleOptions,
     exact: &'a [Option<ExactLink>],
-    hulls: &'a ShapeSet,
+    hulls: &'a TypeShapes,
     hull_of: &'a [Option<usize>],
     home: &'a [f64],
 }
@@ -458,9 +457,5 @@ impl Context<'_> {
 /// The `mesh` file of a URDD's current sample stage, or `None` when it has none (sampled without the
 /// exact geometry).
 pub fn load_mesh_file(urdd: &Urdd) -> Result<Option<MeshFile>> {
-    let stage = urdd.fresh_stage(super::SAMPLE)?;
-    if !stage.outputs.iter().any(|o| o == MESH_FILE) {
-        return Ok(None);
-    }
-    urdd.read_json(super::SAMPLE, MESH_FILE).map(Some)
+    urdd.sample_output(MESH_FILE)
 }

@@ -30,17 +30,14 @@ use crate::error::{Error, Result};
 use crate::progress::Progress;
 use crate::shapes::ShapeType;
 use crate::urdd::{
-    FORMAT_VERSION, PREPROCESS, StageDir, StageRecord, Urdd, json_bytes, read_json_file,
-    sha256_hex, write_atomic,
+    PREPROCESS, StageDir, StageRecord, Urdd, json_bytes, read_json_file, write_atomic,
 };
+use crate::urdd::{compact_json, parameters};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// Folder of the sample stage.
-pub const SAMPLE: &str = "sample";
-/// Folder of shard partial results.
-pub const SHARDS: &str = "sample-shards";
+pub use crate::urdd::{SAMPLE, SHARDS, sample_file_name};
 
 /// Which part of the samples a run computes: chunks `c` with `c % count == index`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -150,11 +147,6 @@ struct ShardFile {
     key: String,
     shard: Shard,
     stats: BTreeMap<ShapeType, Vec<PairStats>>,
-}
-
-/// The sample stage's output path for a type, relative to the URDD.
-pub fn sample_file_name(t: ShapeType) -> String {
-    format!("{}.json", t.id())
 }
 
 /// How far (m) d_min and d_max may lie from the exact extremes over the samples by default: 0.09 mm,
@@ -332,24 +324,13 @@ pub fn merge_shards(
     })
 }
 
+/// The key: the preprocess key it reads and the options.
 fn stage_key(urdd: &Urdd, opts: &SampleOptions) -> Result<String> {
     let pre = urdd.stage(PREPROCESS)?;
-    let material = serde_json::json!({
-        "stage": SAMPLE,
-        "format_version": FORMAT_VERSION,
-        "tool_version": crate::VERSION,
-        "preprocess": pre.key,
-        "options": parameters(opts),
-    });
-    Ok(sha256_hex(&json_bytes(&material)))
-}
-
-fn parameters(opts: &SampleOptions) -> serde_json::Value {
-    let mut v = serde_json::to_value(opts).unwrap_or_default();
-    if let Some(m) = v.as_object_mut() {
-        m.remove("urdd");
-    }
-    v
+    Ok(crate::urdd::stage_key(
+        SAMPLE,
+        serde_json::json!({ "preprocess": pre.key, "options": parameters(SAMPLE, opts)? }),
+    ))
 }
 
 fn write_stage(
@@ -364,7 +345,7 @@ fn write_stage(
     for f in files {
         let name = sample_file_name(f.shape_type);
         // Compact JSON: the pair lists of decomposition types are large.
-        let mut bytes = serde_json::to_vec(f).unwrap_or_default();
+        let mut bytes = compact_json(&name, f)?;
         bytes.push(b'\n');
         stage.write(&name, &bytes)?;
         outputs.push(name);
@@ -385,7 +366,7 @@ fn write_stage(
             key,
             tool_version: crate::VERSION.into(),
             inputs: Vec::new(),
-            parameters: parameters(opts),
+            parameters: parameters(SAMPLE, opts)?,
             folder: SAMPLE.into(),
             outputs,
             stamps: Default::default(),

@@ -8,14 +8,22 @@
 //! DIR/preprocess/meshes/*.obj       link hulls and decomposition pieces
 //! ```
 
+mod layout;
 mod manifest;
 mod obj;
 mod records;
+mod shapes;
 mod write;
 
+pub use layout::{
+    BENCH, EXPORT, EXPORT_INDEX, IMPORTED_FILE, LAYERS, MANIFEST, MESH_FILE, PREPROCESS, SAMPLE,
+    SHARDS, USER_FILE, compact_json, json_value, parameters, sample_file_name, shape_file_name,
+    stage_key,
+};
 pub use manifest::{FORMAT_VERSION, InputFile, Manifest, StageRecord, Stamp, sha256_hex};
 pub use obj::{from_obj, to_obj};
 pub use records::{GeometryRecord, LinkRecord, RobotRecord, ShapeFile, ShapeRecord};
+pub use shapes::TypeShapes;
 pub use write::{StageDir, WriterLock, ensure_not_file, json_bytes, recover, write_atomic};
 
 use crate::error::{Error, Result};
@@ -23,11 +31,6 @@ use crate::shapes::{Geometry, Obb, ShapeType, Sphere};
 use rayon::prelude::*;
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
-
-/// File name of the manifest.
-pub const MANIFEST: &str = "manifest.json";
-/// Folder of the preprocess stage.
-pub const PREPROCESS: &str = "preprocess";
 
 /// An opened URDD directory.
 #[derive(Debug, Clone)]
@@ -254,6 +257,26 @@ impl Urdd {
         read_json_file(&self.dir.join(folder).join(relative))
     }
 
+    /// The shape types the current sample stage wrote records for, in [`ShapeType::ALL`] order. A
+    /// missing or stale sample stage is bad input.
+    pub fn sampled_types(&self) -> Result<Vec<ShapeType>> {
+        let outputs = &self.fresh_stage(SAMPLE)?.outputs;
+        Ok(ShapeType::ALL
+            .into_iter()
+            .filter(|t| outputs.contains(&sample_file_name(*t)))
+            .collect())
+    }
+
+    /// The file `name` of the current sample stage, or `None` when the stage did not write it: the
+    /// one reader of the sample records (per type) and the `mesh` verdicts. A missing or stale
+    /// sample stage is bad input; a truncated or corrupt file is bad input naming it.
+    pub fn sample_output<T: DeserializeOwned>(&self, name: &str) -> Result<Option<T>> {
+        if !self.fresh_stage(SAMPLE)?.outputs.iter().any(|o| o == name) {
+            return Ok(None);
+        }
+        self.read_json(SAMPLE, name).map(Some)
+    }
+
     /// The robot model written by preprocessing.
     pub fn robot(&self) -> Result<RobotRecord> {
         let record: RobotRecord = self.read_json(PREPROCESS, "robot.json")?;
@@ -315,11 +338,6 @@ impl Urdd {
             }
         )
     }
-}
-
-/// The path of a type's shape list inside the preprocess folder.
-pub fn shape_file_name(shape_type: ShapeType) -> String {
-    format!("shapes/{}.json", shape_type.id())
 }
 
 /// Reads and parses a JSON file; a missing, truncated or malformed file is bad input naming the position.

@@ -1,14 +1,15 @@
-//! Loading one shape type from a URDD as query-ready shapes: the one place sampling and the query API
-//! turn shape records into [`CollisionShape`]s.
+//! Reading one shape type from a URDD as query-ready shapes: the one place sampling, the `mesh`
+//! verdicts and the query API turn shape records into [`CollisionShape`]s (the geometry itself does no
+//! I/O).
 
-use super::CollisionShape;
+use super::{PREPROCESS, ShapeRecord, Urdd, shape_file_name};
+use crate::collision::CollisionShape;
 use crate::error::{Error, Result};
 use crate::shapes::ShapeType;
-use crate::urdd::{PREPROCESS, ShapeRecord, Urdd, shape_file_name};
 
 /// The shapes of one type in matrix order, ready for queries, with the link each belongs to.
 #[derive(Debug)]
-pub struct ShapeSet {
+pub struct TypeShapes {
     /// The shape type.
     pub shape_type: ShapeType,
     /// The records as stored (index, link, piece, geometry).
@@ -19,10 +20,12 @@ pub struct ShapeSet {
     pub links: Vec<usize>,
 }
 
-impl ShapeSet {
-    /// Loads the shapes of type `t`; `link_count` is the robot's number of links (every shape must name
-    /// one of them). A degenerate hull or a dangling link index is bad input naming the shape.
-    pub fn load(urdd: &Urdd, t: ShapeType, link_count: usize) -> Result<ShapeSet> {
+impl Urdd {
+    /// The shapes of type `t`, ready for queries; `link_count` is the robot's number of links (every
+    /// shape must name one of them). A degenerate hull or a dangling link index is bad input naming the
+    /// shape.
+    pub fn collision_shapes(&self, t: ShapeType, link_count: usize) -> Result<TypeShapes> {
+        let urdd = self;
         let file = urdd.shapes(t)?;
         let mut shapes = Vec::with_capacity(file.shapes.len());
         let mut links = Vec::with_capacity(file.shapes.len());
@@ -45,7 +48,7 @@ impl ShapeSet {
             shapes.push(shape);
             links.push(s.link_index);
         }
-        Ok(ShapeSet {
+        Ok(TypeShapes {
             shape_type: t,
             records: file.shapes,
             shapes,
