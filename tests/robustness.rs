@@ -332,3 +332,38 @@ fn a_hand_broken_stage_summary_is_an_error_not_empty_counts() {
         "{err}"
     );
 }
+
+#[test]
+fn a_truncated_urdd_file_is_an_error_naming_it_never_empty_data() {
+    // (file, the command that reads it): each truncated to half its bytes.
+    let cases: [(&str, &[&str]); 6] = [
+        ("manifest.json", &["export"]),
+        ("layers/user.json", &["export"]),
+        ("preprocess/robot.json", &["inspect"]),
+        ("preprocess/shapes/hull.json", &["export", "--force"]),
+        ("sample/mesh.json", &["diff", "--srdf", "SRDF"]),
+        ("sample/hull.json", &["export", "--force"]),
+    ];
+    for (k, (file, command)) in cases.iter().enumerate() {
+        let dir = demo_copy(&format!("truncated-{k}"));
+        if *file == "layers/user.json" {
+            let edit = r#"{"edits":[{"shape_type":"hull","a":{"link":"link1","piece":0},"b":{"link":"link3","piece":0},"skip":true}]}"#;
+            std::fs::create_dir_all(dir.join("layers")).unwrap();
+            std::fs::write(dir.join(file), edit).unwrap();
+        }
+        let path = dir.join(file);
+        let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{file}: {e}"));
+        std::fs::write(&path, &bytes[..bytes.len() / 2]).unwrap();
+        let srdf = dir.join("export/demo_arm.srdf");
+        let mut args: Vec<&str> = vec![command[0], s(&dir)];
+        for a in &command[1..] {
+            args.push(if *a == "SRDF" { s(&srdf) } else { a });
+        }
+        let o = common::scm_str(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{file}: {err}");
+        assert_eq!(err.lines().count(), 1, "{file}: {err}");
+        let name = Path::new(file).file_name().unwrap().to_str().unwrap();
+        assert!(err.contains(name), "{file}: {err}");
+    }
+}
