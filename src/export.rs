@@ -2,7 +2,7 @@
 //! six matrix files and as the files MoveIt, MuJoCo, cuRobo, Drake and the paper's tool load.
 
 use crate::error::{Error, Result};
-use crate::formats::{curobo, drake, matrices::MatrixFile, mjcf, paper, srdf, svg};
+use crate::formats::{curobo, drake, matrices::MatrixFile, mjcf, paper_modules, srdf, svg};
 use crate::matrix::{
     HeatMap, IMPORTED_FILE, LAYERS, LinkPair, SkipMatrix, USER_FILE, consumer_link_pairs,
 };
@@ -393,23 +393,23 @@ fn write_paper_modules(
         context: "paper module YAML".into(),
         message: e.to_string(),
     };
-    let skips = paper::skips_module(matrices);
-    let stats = paper::statistics_module(matrices);
+    let skips = paper_modules::skips_module(matrices);
+    let stats = paper_modules::statistics_module(matrices);
     for (folder, json, yaml) in [
         (
-            paper::SKIPS_MODULE,
-            compact_json(paper::SKIPS_MODULE, &skips)?,
+            paper_modules::SKIPS_MODULE,
+            compact_json(paper_modules::SKIPS_MODULE, &skips)?,
             serde_saphyr::to_string(&skips).map_err(yaml_error)?,
         ),
         (
-            paper::STATISTICS_MODULE,
-            compact_json(paper::STATISTICS_MODULE, &stats)?,
+            paper_modules::STATISTICS_MODULE,
+            compact_json(paper_modules::STATISTICS_MODULE, &stats)?,
             serde_saphyr::to_string(&stats).map_err(yaml_error)?,
         ),
     ] {
         write(
             format!("{folder}/VERSION"),
-            paper::VERSION.as_bytes().to_vec(),
+            paper_modules::VERSION.as_bytes().to_vec(),
         )?;
         write(format!("{folder}/module.json"), json)?;
         write(format!("{folder}/module.yaml"), yaml.into_bytes())?;

@@ -72,7 +72,7 @@ pub fn ground_truth(
 
 /// Compares a type's verdicts (with skips, and without for attribution) against the ground truth.
 /// The reasons listed in `reasons` appear in the result even when they hide nothing.
-pub fn compare(
+pub fn against_meshes(
     skips: &SelfChecker,
     no_skips: &SelfChecker,
     configs: &[Vec<f64>],

@@ -182,7 +182,7 @@ pub fn bench(opts: &BenchOptions, progress: &dyn Progress) -> Result<BenchReport
             first_hit,
             proximity,
             collision_fraction: colliding as f64 / configs.len().max(1) as f64,
-            accuracy: accuracy::compare(skips, no_skips, &truth_configs, &mesh, &reasons),
+            accuracy: accuracy::against_meshes(skips, no_skips, &truth_configs, &mesh, &reasons),
         });
     }
     progress.finish();

@@ -5,19 +5,19 @@
 //! the penetration depth (the shortest translation that separates them) when they overlap.
 
 mod box_bound;
+mod distance_window;
 mod epa;
 mod exact;
 mod hull_support;
-mod polish;
+mod separated;
 #[cfg(test)]
 mod test_shapes;
-mod window;
 
 pub use box_bound::{BoundingBox, PlacedBox, box_bounds};
+pub use distance_window::{Hint, Last, Tether, Window, window};
 pub use exact::{ExactError, ExactLink, winding_number};
 pub use hull_support::HullSupport;
-pub use polish::{closest_on_segments, closest_on_triangle};
-pub use window::{Hint, Last, Tether, Window, window};
+pub use separated::{closest_on_segments, closest_on_triangle};
 
 use crate::math::{Pose, Vec3, is_finite};
 use crate::shapes::{ConvexMesh, Geometry};
@@ -171,7 +171,7 @@ impl CollisionShape {
         };
         match &self.kind {
             Kind::Ball(b) => from_line(Vec3::ZERO) + b.radius,
-            Kind::Box(c) => polish::box_corners(c.half_extents)
+            Kind::Box(c) => separated::box_corners(c.half_extents)
                 .into_iter()
                 .map(from_line)
                 .fold(0.0, f64::max),
@@ -184,14 +184,14 @@ impl CollisionShape {
     }
 
     /// `f` of the shape's surface (own frame), `None` for a sphere.
-    fn with_surface<R>(&self, f: impl FnOnce(polish::Surface) -> R) -> Option<R> {
+    fn with_surface<R>(&self, f: impl FnOnce(separated::Surface) -> R) -> Option<R> {
         match &self.kind {
             Kind::Ball(_) => None,
-            Kind::Box(c) => Some(f(polish::Surface {
-                vertices: &polish::box_corners(c.half_extents),
-                triangles: &polish::BOX_TRIANGLES,
+            Kind::Box(c) => Some(f(separated::Surface {
+                vertices: &separated::box_corners(c.half_extents),
+                triangles: &separated::BOX_TRIANGLES,
             })),
-            Kind::Hull(h) => Some(f(polish::Surface {
+            Kind::Hull(h) => Some(f(separated::Surface {
                 vertices: h.vertices(),
                 triangles: h.triangles(),
             })),
@@ -310,7 +310,7 @@ const POLISH_GAP: f64 = 1e-7;
 /// GJK's distance and closest points `found` (frame of `a`, `b` posed at `pos12`), made exact where its
 /// bounds had not met within [`POLISH_GAP`] (it stalls on thin pieces): the gap along the direction
 /// between the points bounds the distance from below, and the shapes' triangles near their support
-/// planes along it hold the closest points (`polish`).
+/// planes along it hold the closest points (`separated`).
 fn polished(
     a: &CollisionShape,
     b: &CollisionShape,
@@ -320,12 +320,12 @@ fn polished(
 ) -> (f64, Vec3, Vec3) {
     let (d, p1, p2) = found;
     let u = (p2 - p1) / d;
-    let lower = -u.dot(window::cso_support(a, b, pos12, u, &mut anchors).point);
+    let lower = -u.dot(distance_window::cso_support(a, b, pos12, u, &mut anchors).point);
     if d - lower <= POLISH_GAP {
         return found;
     }
     let exact = a
-        .with_surface(|sa| b.with_surface(|sb| polish::exact_distance(sa, sb, pos12, u, d)))
+        .with_surface(|sa| b.with_surface(|sb| separated::exact_distance(sa, sb, pos12, u, d)))
         .flatten()
         .flatten();
     match exact {
@@ -382,7 +382,7 @@ fn exact_query(
     // contact's depth by 0.18 mm (tests/exactness.rs). The same steps as parry's support-map
     // distance, keeping the points.
     let (g1, g2) = (a.support_map(), b.support_map());
-    let mut simplex = window::start_simplex(pos12, g1, g2);
+    let mut simplex = distance_window::start_simplex(pos12, g1, g2);
     if let query::gjk::GJKResult::ClosestPoints(p1, p2, _) =
         query::gjk::closest_points(pos12, g1, g2, f64::MAX, true, &mut simplex)
     {
@@ -403,7 +403,7 @@ fn exact_query(
     }
     let mut anchors = hint.anchors;
     let exact = epa::penetration(&points[..n], |dir| {
-        window::cso_support(a, b, pos12, dir, &mut anchors)
+        distance_window::cso_support(a, b, pos12, dir, &mut anchors)
     });
     let (dist, normal, p1, p2) = match exact {
         Some(p) => (-p.depth, p.normal, p.point_a, p.point_b),

@@ -5,7 +5,7 @@ pub mod curobo;
 pub mod drake;
 pub mod matrices;
 pub mod mjcf;
-pub mod paper;
+pub mod paper_modules;
 pub mod srdf;
 pub mod svg;
 
