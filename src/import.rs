@@ -5,7 +5,9 @@ use crate::error::{Error, Result};
 use crate::formats::srdf::{SrdfPair, parse_srdf};
 use crate::matrix::{ImportedLayer, ImportedPair};
 use crate::robot::GeometryOrigin;
-use crate::urdd::{Urdd, sha256_hex};
+use crate::urdd::{
+    IMPORT, IMPORTED_FILE, InputFile, LAYERS, PREPROCESS, StageRecord, Urdd, sha256_hex, stage_key,
+};
 use serde::Serialize;
 use std::collections::{BTreeMap, HashMap};
 use std::path::PathBuf;
@@ -38,12 +40,13 @@ pub struct ImportReport {
     pub warnings: Vec<String>,
 }
 
-/// Reads the SRDF and replaces the URDD's imported layer with it.
+/// Reads the SRDF and replaces the URDD's imported layer with it, recorded in the manifest as the
+/// `import-moveit` stage (the SRDF's hash as its input, the layer file stamped).
 pub fn import_moveit(opts: &ImportOptions) -> Result<ImportReport> {
     let text = std::fs::read_to_string(&opts.srdf)
         .map_err(|e| Error::input(&opts.srdf, "file", format!("cannot read: {e}")))?;
     let srdf = parse_srdf(&text, &opts.srdf)?;
-    let urdd = Urdd::open(&opts.urdd)?;
+    let (mut urdd, _lock) = Urdd::open_for_writing(&opts.urdd, &crate::progress::NoProgress)?;
     let robot = urdd.robot()?.robot;
     let file = opts.srdf.display().to_string();
     let mut warnings = Vec::new();
@@ -94,12 +97,16 @@ pub fn import_moveit(opts: &ImportOptions) -> Result<ImportReport> {
     default_disabled.sort();
     default_disabled.dedup();
 
-    let mut layer = ImportedLayer::new(file, sha256_hex(text.as_bytes()), srdf.robot.clone());
+    let mut layer = ImportedLayer::new(
+        file.clone(),
+        sha256_hex(text.as_bytes()),
+        srdf.robot.clone(),
+    );
     layer.pairs = stored.into_values().map(|(p, _)| p).collect();
     layer.pairs.sort();
     layer.default_disabled = default_disabled;
     layer.save(&urdd)?;
-    Ok(ImportReport {
+    let report = ImportReport {
         urdd: opts.urdd.clone(),
         srdf: opts.srdf.clone(),
         reasons,
@@ -107,7 +114,37 @@ pub fn import_moveit(opts: &ImportOptions) -> Result<ImportReport> {
         default_disabled: layer.default_disabled.len(),
         stored: layer.pairs.len(),
         warnings,
-    })
+    };
+    let preprocess_key = urdd.stage(PREPROCESS)?.key.clone();
+    let srdf_hash = sha256_hex(text.as_bytes());
+    urdd.record_stage(
+        IMPORT,
+        &robot.name,
+        StageRecord {
+            key: stage_key(
+                IMPORT,
+                serde_json::json!({ "srdf": srdf_hash, "preprocess": preprocess_key }),
+            ),
+            tool_version: crate::VERSION.into(),
+            inputs: vec![InputFile {
+                role: "srdf".into(),
+                path: file,
+                sha256: srdf_hash,
+            }],
+            parameters: serde_json::Value::Null,
+            folder: LAYERS.into(),
+            outputs: vec![IMPORTED_FILE.into()],
+            stamps: Default::default(),
+            summary: serde_json::json!({
+                "reasons": &report.reasons,
+                "enabled": report.enabled,
+                "default_disabled": report.default_disabled,
+                "stored": report.stored,
+            }),
+            depends_on: [(PREPROCESS.to_string(), preprocess_key)].into(),
+        },
+    )?;
+    Ok(report)
 }
 
 /// Stores one SRDF pair, warning about self pairs, unusable links, duplicates and reversals.

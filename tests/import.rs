@@ -291,3 +291,32 @@ fn bad_srdf_input_is_one_line_and_exit_2() {
     assert!(err.contains("line 2") && err.contains("link2"), "{err}");
     assert!(!dir.join("layers").exists(), "nothing written on bad input");
 }
+
+#[test]
+fn an_import_is_a_manifest_record_with_the_srdf_hash_and_a_stamped_layer() {
+    let Some(robots) = robots_dir() else { return };
+    let dir = preprocessed(&robots.join("panda/panda.urdf"), "import-record");
+    let srdf = robots.join("panda/panda.srdf");
+    import_json(&srdf, &dir);
+    let urdd = Urdd::open(&dir).unwrap();
+    let record = urdd
+        .fresh_stage(scm::urdd::IMPORT)
+        .expect("a current import record");
+    let hash = scm::urdd::sha256_hex(&std::fs::read(&srdf).unwrap());
+    assert_eq!(record.inputs.len(), 1);
+    assert_eq!(
+        (record.inputs[0].role.as_str(), &record.inputs[0].sha256),
+        ("srdf", &hash)
+    );
+    assert_eq!(record.outputs, vec!["imported.json".to_string()]);
+    assert_eq!(record.summary["stored"], 34);
+    let preprocess = urdd.stage(scm::urdd::PREPROCESS).unwrap().key.clone();
+    assert_eq!(record.depends_on.get("preprocess"), Some(&preprocess));
+    // A hand-edited layer no longer matches its stamp.
+    std::fs::write(dir.join("layers/imported.json"), b"{}").unwrap();
+    let changes = Urdd::open(&dir).unwrap().output_changes(scm::urdd::IMPORT);
+    assert!(
+        changes.iter().any(|c| c.contains("imported.json")),
+        "{changes:?}"
+    );
+}

@@ -25,6 +25,8 @@ pub const SAMPLE: &str = "sample";
 pub const SHARDS: &str = "sample-shards";
 /// The sample stage's link-level verdicts on the exact geometry.
 pub const MESH_FILE: &str = "mesh.json";
+/// Name of the import stage's manifest record (its output is [`IMPORTED_FILE`] in [`LAYERS`]).
+pub const IMPORT: &str = "import-moveit";
 /// Folder of the imported and user layers.
 pub const LAYERS: &str = "layers";
 /// The imported layer's file in [`LAYERS`].

@@ -16,9 +16,9 @@ mod shapes;
 mod write;
 
 pub use layout::{
-    BENCH, EXPORT, EXPORT_INDEX, IMPORTED_FILE, LAYERS, MANIFEST, MESH_FILE, PREPROCESS, SAMPLE,
-    SHARDS, USER_FILE, compact_json, json_value, parameters, sample_file_name, shape_file_name,
-    stage_key,
+    BENCH, EXPORT, EXPORT_INDEX, IMPORT, IMPORTED_FILE, LAYERS, MANIFEST, MESH_FILE, PREPROCESS,
+    SAMPLE, SHARDS, USER_FILE, compact_json, json_value, parameters, sample_file_name,
+    shape_file_name, stage_key,
 };
 pub use manifest::{FORMAT_VERSION, InputFile, Manifest, StageRecord, Stamp, sha256_hex};
 pub use obj::{from_obj, to_obj};
