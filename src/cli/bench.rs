@@ -12,11 +12,11 @@ pub fn run_bench(cli: &Cli, args: &BenchArgs) -> Result<()> {
     let opts = bench_options(args)?;
     let report = bench(&opts, &progress::Bar::new(cli.quiet))?;
     if cli.json {
-        print_json(&report);
+        print_json(&report)
     } else {
         print_bench(&report);
+        Ok(())
     }
-    Ok(())
 }
 
 /// Lowers the bench flags into library options (library defaults where a flag is absent).

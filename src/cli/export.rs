@@ -13,11 +13,11 @@ pub fn run_export(cli: &Cli, args: &ExportArgs) -> Result<()> {
     let opts = export_options(&args.urdd, args.output.clone(), &args.export, args.force);
     let report = export(&opts, &progress::Bar::new(cli.quiet))?;
     if cli.json {
-        print_json(&report);
+        print_json(&report)
     } else {
         print_export(cli, &report);
+        Ok(())
     }
-    Ok(())
 }
 
 /// Lowers the export flags into library options.

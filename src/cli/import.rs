@@ -2,7 +2,7 @@
 //! comparison printing both share.
 
 use super::args::{Cli, DiffArgs, ImportMoveitArgs};
-use super::common::print_json;
+use super::common::{print_json, to_json};
 use super::output::{out, outln};
 use scm::compare::{CompareOptions, Comparison, WitnessJoints, compare, format_comparison_with};
 use scm::error::Result;
@@ -25,8 +25,11 @@ pub fn run_import(cli: &Cli, args: &ImportMoveitArgs) -> Result<()> {
         None
     };
     if cli.json {
-        print_json(&serde_json::json!({ "import": report, "compare": comparison }));
-        return Ok(());
+        // One object, keys sorted by serde_json's Map, the reports' fields included.
+        let mut both = serde_json::Map::new();
+        both.insert("import".into(), to_json(&report)?);
+        both.insert("compare".into(), to_json(&comparison)?);
+        return print_json(&both);
     }
     print_import(cli, &report);
     if let Some(c) = comparison {
@@ -43,8 +46,7 @@ pub fn run_diff(cli: &Cli, args: &DiffArgs) -> Result<()> {
         link_level: args.link_level,
     })?;
     if cli.json {
-        print_json(&c);
-        return Ok(());
+        return print_json(&c);
     }
     let joints = if args.full_witness {
         WitnessJoints::All

@@ -5,16 +5,17 @@ use super::common::{bad_flag, print_json};
 use super::output::out;
 use scm::error::Result;
 use scm::inspect::{Configurations, InspectReport, inspect};
+use scm::robot::GeometryOrigin;
 
 /// `scm inspect`: each link's loaded geometry and its world boxes at the configurations asked for.
 pub fn run_inspect(cli: &Cli, args: &InspectArgs) -> Result<()> {
     let report = inspect(&args.urdd, &configurations(args)?)?;
     if cli.json {
-        print_json(&report);
+        print_json(&report)
     } else {
         out!("{}", render(&report));
+        Ok(())
     }
-    Ok(())
 }
 
 /// Lowers `--random` / `--config` into the configurations to place the links at (home by default).
@@ -72,10 +73,7 @@ fn render(report: &InspectReport) -> String {
             out += &format!(
                 "  {}: {}, {} element(s){}{}; {bounds}\n",
                 link.link,
-                serde_json::to_value(link.source)
-                    .ok()
-                    .and_then(|v| v.as_str().map(str::to_string))
-                    .unwrap_or_default(),
+                origin_name(link.source),
                 link.elements.len(),
                 if counts.is_empty() { "" } else { ": " },
                 counts.join(", ")
@@ -83,4 +81,31 @@ fn render(report: &InspectReport) -> String {
         }
     }
     out
+}
+
+/// The name of a link's geometry source, as `--json` spells it.
+fn origin_name(origin: GeometryOrigin) -> &'static str {
+    match origin {
+        GeometryOrigin::Collision => "collision",
+        GeometryOrigin::Visual => "visual",
+        GeometryOrigin::None => "none",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The text names each source as the JSON report does.
+    #[test]
+    fn origin_names_match_json() {
+        for origin in [
+            GeometryOrigin::Collision,
+            GeometryOrigin::Visual,
+            GeometryOrigin::None,
+        ] {
+            let json = serde_json::to_value(origin).expect("a unit variant serialises");
+            assert_eq!(json.as_str(), Some(origin_name(origin)));
+        }
+    }
 }

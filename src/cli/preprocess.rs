@@ -15,11 +15,11 @@ pub fn run_preprocess(cli: &Cli, args: &PreprocessArgs) -> Result<()> {
     let opts = preprocess_options(&args.urdf, &args.output, &args.shapes, args.force)?;
     let report = preprocess(&opts, &progress::Bar::new(cli.quiet))?;
     if cli.json {
-        print_json(&report);
+        print_json(&report)
     } else {
         print_preprocess(cli, &report);
+        Ok(())
     }
-    Ok(())
 }
 
 /// Lowers the preprocess flags into library options.

@@ -1,7 +1,7 @@
 //! `scm run`: the three stages in one call, lowered and printed by their own modules.
 
 use super::args::{Cli, RunArgs};
-use super::common::print_json;
+use super::common::{print_json, to_json};
 use super::export::{export_options, print_export};
 use super::preprocess::{preprocess_options, print_preprocess};
 use super::progress;
@@ -21,15 +21,16 @@ pub fn run_all(cli: &Cli, args: &RunArgs) -> Result<()> {
     let sample_report = sample(&sampling, &bar)?;
     let export_report = export(&exporting, &bar)?;
     if cli.json {
-        print_json(&serde_json::json!({
-            "preprocess": pre_report,
-            "sample": sample_report,
-            "export": export_report,
-        }));
+        // One object keyed by stage; serde_json's Map sorts its keys, the reports' fields included.
+        let mut all = serde_json::Map::new();
+        all.insert("preprocess".into(), to_json(&pre_report)?);
+        all.insert("sample".into(), to_json(&sample_report)?);
+        all.insert("export".into(), to_json(&export_report)?);
+        print_json(&all)
     } else {
         print_preprocess(cli, &pre_report);
         print_sample(cli, &sample_report);
         print_export(cli, &export_report);
+        Ok(())
     }
-    Ok(())
 }

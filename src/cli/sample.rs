@@ -28,11 +28,11 @@ pub fn run_sample(cli: &Cli, args: &SampleArgs) -> Result<()> {
         None => sample(&opts, &bar)?,
     };
     if cli.json {
-        print_json(&report);
+        print_json(&report)
     } else {
         print_sample(cli, &report);
+        Ok(())
     }
-    Ok(())
 }
 
 /// Lowers the sampling flags into library options.
