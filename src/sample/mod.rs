@@ -150,7 +150,7 @@ struct ShardFile {
 }
 
 /// How far (m) d_min and d_max may lie from the exact extremes over the samples by default: 0.09 mm,
-/// so that with the exact queries' own error (micrometres at worst, see the README) they stay within
+/// so that with the exact queries' own error (micrometres at worst, see docs/cli.md) they stay within
 /// the 0.1 mm the extremes may carry.
 pub const DEFAULT_TOLERANCE: f64 = 9e-5;
 
