@@ -3,7 +3,7 @@
 
 pub mod bench;
 pub mod collision;
-pub mod compare;
+pub mod diff;
 pub mod error;
 pub mod export;
 pub mod formats;

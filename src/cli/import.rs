@@ -4,7 +4,7 @@
 use super::args::{Cli, DiffArgs, ImportMoveitArgs};
 use super::common::{print_json, to_json};
 use super::output::{out, outln};
-use scm::compare::{CompareOptions, Comparison, WitnessJoints, compare, format_comparison_with};
+use scm::diff::{Comparison, DiffOptions, WitnessJoints, diff, format_comparison_with};
 use scm::error::Result;
 use scm::import::{ImportOptions, ImportReport, import_moveit};
 use std::path::Path;
@@ -16,7 +16,7 @@ pub fn run_import(cli: &Cli, args: &ImportMoveitArgs) -> Result<()> {
         urdd: args.urdd.clone(),
     })?;
     let comparison = if args.compare {
-        Some(compare(&CompareOptions {
+        Some(diff(&DiffOptions {
             urdd: args.urdd.clone(),
             srdf: None,
             link_level: args.link_level,
@@ -40,7 +40,7 @@ pub fn run_import(cli: &Cli, args: &ImportMoveitArgs) -> Result<()> {
 
 /// `scm diff`: scm's verdicts against MoveIt's.
 pub fn run_diff(cli: &Cli, args: &DiffArgs) -> Result<()> {
-    let c = compare(&CompareOptions {
+    let c = diff(&DiffOptions {
         urdd: args.urdd.clone(),
         srdf: args.srdf.clone(),
         link_level: args.link_level,

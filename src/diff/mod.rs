@@ -20,7 +20,7 @@ pub use report::{format_comparison, format_comparison_with};
 
 /// What to compare.
 #[derive(Debug, Clone)]
-pub struct CompareOptions {
+pub struct DiffOptions {
     /// The URDD directory (sampled).
     pub urdd: PathBuf,
     /// The SRDF to compare with; default the URDD's imported layer.
@@ -137,7 +137,7 @@ pub enum WitnessJoints {
 }
 
 /// Compares scm's inferred (and user) verdicts with MoveIt's.
-pub fn compare(opts: &CompareOptions) -> Result<Comparison> {
+pub fn diff(opts: &DiffOptions) -> Result<Comparison> {
     let urdd = Urdd::open(&opts.urdd)?;
     let (moveit, source) = moveit_layer(&urdd, opts)?;
     let robot = urdd.robot()?.robot;
@@ -204,7 +204,7 @@ pub fn compare(opts: &CompareOptions) -> Result<Comparison> {
 }
 
 /// MoveIt's verdicts: the SRDF given, else the URDD's imported layer; and where they came from.
-fn moveit_layer(urdd: &Urdd, opts: &CompareOptions) -> Result<(ImportedLayer, String)> {
+fn moveit_layer(urdd: &Urdd, opts: &DiffOptions) -> Result<(ImportedLayer, String)> {
     let Some(path) = &opts.srdf else {
         let layer = ImportedLayer::load(urdd)?.ok_or_else(|| {
             Error::input(

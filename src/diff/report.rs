@@ -132,7 +132,7 @@ fn witness_line(d: &Disagreement, joints: WitnessJoints) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::compare::{WitnessDistance, WitnessKind};
+    use crate::diff::{WitnessDistance, WitnessKind};
 
     fn disagreement(scm: &str, path: &[&str], distance: Option<f64>) -> Disagreement {
         Disagreement {
