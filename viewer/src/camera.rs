@@ -143,7 +143,7 @@ fn frame_selected_pair(
     mut orbits: Query<&mut Orbit>,
 ) {
     frame.0 = false;
-    let Some((a, b)) = viewer.0.type_data(settings.shape_type).and_then(|d| {
+    let Some((a, b)) = viewer.0.sampled(settings.shape_type).and_then(|d| {
         let p = selection.within(d.pair_count())?;
         Some(d.pair(p))
     }) else {

@@ -64,7 +64,7 @@ fn joint_panel(
                     .selected_text(s.shape_type.id())
                     .show_ui(ui, |ui| {
                         for t in ShapeType::ALL {
-                            let sampled = model.type_data(t).is_some();
+                            let sampled = model.sampled(t).is_some();
                             let label = if sampled {
                                 t.id().to_string()
                             } else {

@@ -61,7 +61,7 @@ fn update_distances(
     mut scratch: Local<Scratch>,
     mut distances: ResMut<Distances>,
 ) {
-    if let Some(data) = viewer.0.type_data(settings.shape_type) {
+    if let Some(data) = viewer.0.sampled(settings.shape_type) {
         match data.distances(&joints.q, &mut scratch) {
             Ok(d) => distances.0 = d,
             Err(e) => error!("distances: {e}"),
@@ -78,7 +78,7 @@ fn update_closest(
     mut scratch: Local<Scratch>,
     mut closest: ResMut<Closest>,
 ) {
-    closest.0 = viewer.0.type_data(settings.shape_type).and_then(|data| {
+    closest.0 = viewer.0.sampled(settings.shape_type).and_then(|data| {
         let p = selection.within(data.pair_count())?;
         data.closest_points(&joints.q, p, &mut scratch).ok()
     });
@@ -93,7 +93,7 @@ fn highlight_selected_pair(
     originals: Query<&MeshMaterial3d<StandardMaterial>, With<OriginalMesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
 ) {
-    let pair = viewer.0.type_data(settings.shape_type).and_then(|data| {
+    let pair = viewer.0.sampled(settings.shape_type).and_then(|data| {
         let p = selection.within(data.pair_count())?;
         Some(data.pair(p))
     });

@@ -1,9 +1,9 @@
 //! The state the plugins share, as explicit resources and messages. UI systems write them; scene
 //! systems react to their changes.
 
-use crate::edits::{Edit, Editor};
+use crate::edit::editor::{Edit, Editor};
 use crate::model::Model;
-use crate::pairs::SortKey;
+use crate::pairs::list::SortKey;
 use bevy::prelude::*;
 use bevy_egui::egui;
 use scm::shapes::ShapeType;

@@ -1,13 +1,15 @@
 //! Pair panel plugin (right): the selected type's pairs with their verdict, reason and statistics,
 //! sortable and filtered; the selected pair's details and a button to its witness configuration.
 
+pub mod list;
+
 use crate::camera::FrameRequest;
-use crate::pairs::{SortKey, pair_label, ratio, ratio_text, visible_pairs};
 use crate::state::{
     Distances, Joints, PairRows, PairView, Selection, Settings, UiLayout, UiOrder, Viewer,
 };
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
+use list::{SortKey, pair_label, ratio, ratio_text, visible_pairs};
 
 /// The right panel and the list it shows.
 pub struct PairPanelPlugin;
@@ -35,7 +37,7 @@ fn refresh_pair_rows(
     distances: Res<Distances>,
     mut rows: ResMut<PairRows>,
 ) {
-    if let Some(data) = viewer.0.type_data(settings.shape_type)
+    if let Some(data) = viewer.0.sampled(settings.shape_type)
         && distances.0.len() == data.pair_count()
     {
         rows.rows = visible_pairs(
@@ -82,7 +84,7 @@ fn pair_panel(
     mut frame: ResMut<FrameRequest>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
-    let Some(data) = viewer.0.type_data(settings.shape_type) else {
+    let Some(data) = viewer.0.sampled(settings.shape_type) else {
         return Ok(());
     };
     let m = &data.matrix;

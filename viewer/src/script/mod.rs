@@ -1,17 +1,19 @@
 //! Script plugin: plays an action script frame by frame through the same resources and edit requests
 //! as the panels, writes screenshots, and exits (0 when every action succeeded).
 
+pub mod parse;
+
 use crate::camera::{FrameRequest, Orbit};
-use crate::edits::Edit;
+use crate::edit::editor::Edit;
 use crate::joint_panel::random_configuration;
 use crate::matrix_view::MatrixView;
-use crate::pairs::find_pair;
-use crate::script::{Action, Script};
+use crate::pairs::list::find_pair;
 use crate::state::{
     Distances, EditRequest, Editing, Joints, PairView, Selection, Settings, Viewer,
 };
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use parse::{Action, Script};
 use std::path::PathBuf;
 
 /// Plays a script, then exits.
@@ -135,7 +137,7 @@ fn play_script(
         _ => SETTLE,
     };
     let model = &viewer.0;
-    let data = model.type_data(settings.shape_type);
+    let data = model.sampled(settings.shape_type);
     let fail = |exit: &mut MessageWriter<AppExit>, message: &str| {
         eprintln!(
             "scm-viewer: {}: line {line}: {message}",

@@ -1,11 +1,13 @@
 //! Scene plugin: the robot's shapes of every sampled type and its original meshes as entities under
 //! one frame per link, posed by forward kinematics; lights and the floor grid.
 
-use crate::geometry::{SceneGeometry, Triangles, hull_triangles};
+pub mod geometry;
+
 use crate::state::{Joints, Settings, Viewer};
 use bevy::asset::RenderAssetUsages;
 use bevy::mesh::PrimitiveTopology;
 use bevy::prelude::*;
+use geometry::{SceneGeometry, Triangles, hull_triangles};
 use scm::shapes::{Geometry, ShapeType};
 
 /// Draws the robot in the current configuration with the selected type's shapes.

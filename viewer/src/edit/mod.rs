@@ -2,7 +2,9 @@
 //! and the system that applies edit requests to the user layer, re-resolves the matrices and, on
 //! save, writes the layer atomically and re-runs the export.
 
-use crate::edits::Edit;
+pub mod editor;
+
+use crate::edit::editor::Edit;
 use crate::state::{
     Distances, EditRequest, Editing, Selection, Settings, UiLayout, UiOrder, Viewer,
 };
@@ -49,7 +51,7 @@ fn apply_edit_requests(
     for request in requests.read() {
         let changed = match request {
             EditRequest::Apply(edit) => {
-                let Some(data) = viewer.0.type_data(settings.shape_type) else {
+                let Some(data) = viewer.0.sampled(settings.shape_type) else {
                     continue;
                 };
                 let (n, label) = editing.editor.apply(edit, &data.matrix, &distances.0);
