@@ -13,15 +13,19 @@
 //! - [`edit`]: the edit panel and edit requests; [`edit::editor`] holds the marks, bulk rules and
 //!   undo history.
 //! - [`script`]: scripted mode, playing an action script; [`script::parse`] reads and checks it.
+//! - [`layout`]: how the panels share the window (their order, the part left to the 3D view).
 //!
-//! The state several plugins share is declared in [`state`]; [`model`] is the URDD as loaded
-//! ([`model::Model`], one [`model::SampledType`] per sampled shape type).
+//! Each plugin inserts the resources it owns (its doc names them), building them from the model where
+//! they depend on the robot; [`run`] inserts only the model ([`state::Viewer`]) and the scene data,
+//! then adds the plugins. The state several plugins share is declared in [`state`]; [`model`] is the
+//! URDD as loaded ([`model::Model`], one [`model::SampledType`] per sampled shape type).
 
 pub mod camera;
 pub mod edit;
 #[cfg(test)]
 mod fixtures;
 pub mod joint_panel;
+pub mod layout;
 pub mod matrix_view;
 pub mod model;
 pub mod pairs;
@@ -67,12 +71,6 @@ pub fn run(dir: &Path, options: ViewerOptions) -> scm::Result<AppExit> {
         None => None,
     };
     let geometry = scene::geometry::SceneGeometry::load(&model)?;
-    let first = model.types[0].shape_type;
-    let hull = model
-        .sampled(scm::shapes::ShapeType::Hull)
-        .map_or(first, |d| d.shape_type);
-    let editor = edit::editor::Editor::new(model.user.clone());
-    let home = model.kinematics.home();
     let title = format!("scm view: {} ({})", model.name(), dir.display());
 
     let mut app = App::new();
@@ -94,25 +92,11 @@ pub fn run(dir: &Path, options: ViewerOptions) -> scm::Result<AppExit> {
             }),
     )
     .add_plugins(bevy_egui::EguiPlugin::default())
+    // The model and the scene data first: the plugins build their own resources from them.
     .insert_resource(state::Viewer(model))
     .insert_resource(scene::SceneGeometryRes(geometry))
-    .insert_resource(state::Joints {
-        q: home,
-        next_seed: 1,
-    })
-    .insert_resource(state::Settings {
-        shape_type: hull,
-        originals: false,
-    })
-    .insert_resource(state::Editing {
-        editor,
-        below_distance: 0.0,
-        below_ratio: 0.2,
-        status: String::new(),
-        error: None,
-    })
     .add_plugins((
-        state::StatePlugin,
+        layout::LayoutPlugin,
         scene::ScenePlugin,
         camera::CameraPlugin,
         joint_panel::JointPanelPlugin,
@@ -122,13 +106,9 @@ pub fn run(dir: &Path, options: ViewerOptions) -> scm::Result<AppExit> {
         edit::EditingPlugin,
     ));
     match script {
-        Some(s) => {
-            app.insert_resource(WinitSettings::continuous())
-                .add_plugins(script::ScriptPlugin(s));
-        }
-        None => {
-            app.insert_resource(WinitSettings::desktop_app());
-        }
-    }
+        Some(s) => app.add_plugins(script::ScriptPlugin(s)),
+        // Without a script, redraw only on input.
+        None => app.insert_resource(WinitSettings::desktop_app()),
+    };
     Ok(app.run())
 }

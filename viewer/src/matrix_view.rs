@@ -4,14 +4,15 @@
 //! it (the list's selection, so highlight, witness and edits work from either). A decomposition
 //! type's map is its link level: clicking a cell opens that link pair's piece grid.
 
+use crate::layout::{UiLayout, UiOrder};
 use crate::model::Model;
-use crate::state::{Selection, Settings, UiLayout, UiOrder, Viewer};
+use crate::state::{Selection, Settings, Viewer};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use scm::matrix::{HeatMap, Verdict, consumer_link_pairs};
 use scm::shapes::{Scope, ShapeType};
 
-/// The matrix window.
+/// The matrix window. Owns [`MatrixView`] and the picture it draws.
 pub struct MatrixViewPlugin;
 
 impl Plugin for MatrixViewPlugin {

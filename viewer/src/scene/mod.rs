@@ -10,7 +10,9 @@ use bevy::prelude::*;
 use geometry::{SceneGeometry, Triangles, hull_triangles};
 use scm::shapes::{Geometry, ShapeType};
 
-/// Draws the robot in the current configuration with the selected type's shapes.
+/// Draws the robot in the current configuration with the selected type's shapes. Reads the
+/// [`SceneGeometryRes`] inserted with the model; sets the clear colour and ambient light, and inserts
+/// [`SceneBounds`] once the robot is spawned.
 pub struct ScenePlugin;
 
 impl Plugin for ScenePlugin {
@@ -206,7 +208,7 @@ fn spawn_robot(
     }
 }
 
-/// The loaded scene geometry (inserted before startup).
+/// The loaded scene geometry (inserted by [`crate::run`] with the model, before startup).
 #[derive(Resource)]
 pub struct SceneGeometryRes(pub SceneGeometry);
 

@@ -5,29 +5,31 @@ pub mod parse;
 
 use crate::camera::{FrameRequest, Orbit};
 use crate::edit::editor::Edit;
+use crate::edit::{EditRequest, Editing};
 use crate::joint_panel::random_configuration;
 use crate::matrix_view::MatrixView;
+use crate::pairs::PairView;
 use crate::pairs::list::find_pair;
-use crate::state::{
-    Distances, EditRequest, Editing, Joints, PairView, Selection, Settings, Viewer,
-};
+use crate::state::{Distances, Joints, Selection, Settings, Viewer};
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use bevy::winit::WinitSettings;
 use parse::{Action, Script};
 use std::path::PathBuf;
 
-/// Plays a script, then exits.
+/// Plays a script, then exits. Runs the app continuously (the script needs frames without input).
 pub struct ScriptPlugin(pub Script);
 
 impl Plugin for ScriptPlugin {
     fn build(&self, app: &mut App) {
-        app.insert_resource(Player {
-            script: self.0.clone(),
-            next: 0,
-            wait: WARM_UP,
-            shot: Shot::None,
-        })
-        .add_systems(Update, play_script);
+        app.insert_resource(WinitSettings::continuous())
+            .insert_resource(Player {
+                script: self.0.clone(),
+                next: 0,
+                wait: WARM_UP,
+                shot: Shot::None,
+            })
+            .add_systems(Update, play_script);
     }
 }
 
