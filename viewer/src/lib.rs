@@ -12,7 +12,8 @@
 //! - [`selection`]: current distances, the selected pair's highlight and closest points.
 //! - [`edit`]: the edit panel and edit requests; [`edit::editor`] holds the marks, bulk rules and
 //!   undo history.
-//! - [`script`]: scripted mode, playing an action script; [`script::parse`] reads and checks it.
+//! - [`script`]: scripted mode, applying an action script's actions to the app; [`script::parse`]
+//!   reads and checks the script, [`script::player`] paces it (a state machine over frames).
 //! - [`layout`]: how the panels share the window (their order, the part left to the 3D view).
 //!
 //! Each plugin inserts the resources it owns (its doc names them), building them from the model where
