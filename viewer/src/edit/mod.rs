@@ -1,6 +1,7 @@
 //! Editing plugin: the edit panel (marks on the selected pair, the two bulk rules, undo, redo, save)
 //! and the system that applies edit requests to the user layer, re-resolves the matrices and, on
-//! save, writes the layer atomically and re-runs the export.
+//! save, writes the layer atomically and re-runs the export. The marks, rules and undo history are
+//! [`editor::Editor`]'s.
 
 pub mod editor;
 

@@ -1,5 +1,6 @@
 //! Pair panel plugin (right): the selected type's pairs with their verdict, reason and statistics,
 //! sortable and filtered; the selected pair's details and a button to its witness configuration.
+//! Which pairs the list shows, in which order and under which names is decided by [`list`].
 
 pub mod list;
 

@@ -1,5 +1,6 @@
 //! Scene plugin: the robot's shapes of every sampled type and its original meshes as entities under
-//! one frame per link, posed by forward kinematics; lights and the floor grid.
+//! one frame per link, posed by forward kinematics; lights and the floor grid. What it draws is
+//! prepared before the window opens by [`geometry`].
 
 pub mod geometry;
 
