@@ -2,8 +2,9 @@
 //! wheel zooms) whose viewport is the part of the window the panels leave free. F (or a jump to a
 //! witness) frames the selected pair: the orbit turns to look at its two shapes from where it is.
 
+use crate::layout::UiLayout;
 use crate::scene::{SceneBounds, ShapeEntity};
-use crate::state::{Selection, Settings, UiLayout, Viewer};
+use crate::state::{Selection, Settings, Viewer};
 use bevy::camera::primitives::Aabb;
 use bevy::camera::visibility::RenderLayers;
 use bevy::camera::{CameraOutputMode, Viewport};
@@ -13,7 +14,7 @@ use bevy::render::render_resource::BlendState;
 use bevy::window::PrimaryWindow;
 use bevy_egui::{EguiGlobalSettings, PrimaryEguiContext};
 
-/// Orbit, pan and zoom around the robot.
+/// Orbit, pan and zoom around the robot. Owns [`FrameRequest`].
 pub struct CameraPlugin;
 
 impl Plugin for CameraPlugin {
@@ -143,7 +144,7 @@ fn frame_selected_pair(
     mut orbits: Query<&mut Orbit>,
 ) {
     frame.0 = false;
-    let Some((a, b)) = viewer.0.type_data(settings.shape_type).and_then(|d| {
+    let Some((a, b)) = viewer.0.sampled(settings.shape_type).and_then(|d| {
         let p = selection.within(d.pair_count())?;
         Some(d.pair(p))
     }) else {

@@ -2,18 +2,22 @@
 //! freedom with its name and limits (filtered by name, for robots with tens of joints), home and a
 //! random configuration.
 
-use crate::state::{Joints, Settings, UiLayout, UiOrder, Viewer};
+use crate::layout::{UiLayout, UiOrder};
+use crate::state::{Joints, Settings, Viewer};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use scm::rng::Rng;
 use scm::shapes::ShapeType;
 
-/// The left panel.
+/// The left panel. Owns [`Joints`] (starting at home) and [`Settings`] (starting on the link hulls),
+/// both built from the [`Viewer`] model, which must be inserted first.
 pub struct JointPanelPlugin;
 
 impl Plugin for JointPanelPlugin {
     fn build(&self, app: &mut App) {
-        app.add_systems(EguiPrimaryContextPass, joint_panel.in_set(UiOrder::Left));
+        app.init_resource::<Joints>()
+            .init_resource::<Settings>()
+            .add_systems(EguiPrimaryContextPass, joint_panel.in_set(UiOrder::Left));
     }
 }
 
@@ -65,7 +69,7 @@ fn joint_panel(
                     .selected_text(s.shape_type.id())
                     .show_ui(ui, |ui| {
                         for t in ShapeType::ALL {
-                            let sampled = model.type_data(t).is_some();
+                            let sampled = model.sampled(t).is_some();
                             let label = if sampled {
                                 t.id().to_string()
                             } else {

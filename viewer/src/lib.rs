@@ -1,24 +1,35 @@
 //! scm-viewer: the interactive viewer for exploring and refining a URDD's self-collision matrices.
 //!
-//! One plugin per concern, all on the `scm` library's types: [`scene`] (robot shapes and meshes),
-//! [`camera`] (orbit camera, framing the selected pair), [`joint_panel`] (sliders), [`pair_panel`]
-//! (pair list), [`matrix_view`] (the matrix as a picture), [`selection`]
-//! (highlight and closest points), [`editing`] (marks, bulk rules, undo, save) and, in scripted mode,
-//! [`player`]. The state they share is in [`state`]; the logic behind the panels is plain Rust in
-//! [`model`], [`pairs`], [`edits`], [`script`] and [`geometry`], tested without a window.
+//! One plugin per concern, all on the `scm` library's types. A concern with plain logic of its own is
+//! a folder: its `mod.rs` is the plugin, the files beside it are plain Rust, tested without a window.
+//!
+//! - [`scene`]: robot shapes and meshes, posed by the joints; [`scene::geometry`] prepares what it
+//!   draws (triangles, outlines, the robot's bounds).
+//! - [`camera`]: the orbit camera, framing the selected pair.
+//! - [`joint_panel`]: the left panel (shape type, original meshes, joint sliders).
+//! - [`pairs`]: the right panel; [`pairs::list`] sorts and filters the pairs and names them.
+//! - [`matrix_view`]: the matrix as a picture.
+//! - [`selection`]: current distances, the selected pair's highlight and closest points.
+//! - [`edit`]: the edit panel and edit requests; [`edit::editor`] holds the marks, bulk rules and
+//!   undo history.
+//! - [`script`]: scripted mode, applying an action script's actions to the app; [`script::parse`]
+//!   reads and checks the script, [`script::player`] paces it (a state machine over frames).
+//! - [`layout`]: how the panels share the window (their order, the part left to the 3D view).
+//!
+//! Each plugin inserts the resources it owns (its doc names them), building them from the model where
+//! they depend on the robot; [`run`] inserts only the model ([`state::Viewer`]) and the scene data,
+//! then adds the plugins. The state several plugins share is declared in [`state`]; [`model`] is the
+//! URDD as loaded ([`model::Model`], one [`model::SampledType`] per sampled shape type).
 
 pub mod camera;
-pub mod editing;
-pub mod edits;
+pub mod edit;
 #[cfg(test)]
 mod fixtures;
-pub mod geometry;
 pub mod joint_panel;
+pub mod layout;
 pub mod matrix_view;
 pub mod model;
-pub mod pair_panel;
 pub mod pairs;
-pub mod player;
 pub mod scene;
 pub mod script;
 pub mod selection;
@@ -54,19 +65,13 @@ pub fn run(dir: &Path, options: ViewerOptions) -> scm::Result<AppExit> {
     let model = model::Model::load(dir)?;
     let script = match &options.script {
         Some(path) => {
-            let s = script::Script::load(path)?;
+            let s = script::parse::Script::load(path)?;
             s.check(&model)?;
             Some(s)
         }
         None => None,
     };
-    let geometry = geometry::SceneGeometry::load(&model)?;
-    let first = model.types[0].shape_type;
-    let hull = model
-        .type_data(scm::shapes::ShapeType::Hull)
-        .map_or(first, |d| d.shape_type);
-    let editor = edits::Editor::new(model.user.clone());
-    let home = model.kinematics.home();
+    let geometry = scene::geometry::SceneGeometry::load(&model)?;
     let title = format!("scm view: {} ({})", model.name(), dir.display());
 
     let mut app = App::new();
@@ -88,41 +93,23 @@ pub fn run(dir: &Path, options: ViewerOptions) -> scm::Result<AppExit> {
             }),
     )
     .add_plugins(bevy_egui::EguiPlugin::default())
+    // The model and the scene data first: the plugins build their own resources from them.
     .insert_resource(state::Viewer(model))
     .insert_resource(scene::SceneGeometryRes(geometry))
-    .insert_resource(state::Joints {
-        q: home,
-        next_seed: 1,
-    })
-    .insert_resource(state::Settings {
-        shape_type: hull,
-        originals: false,
-    })
-    .insert_resource(state::Editing {
-        editor,
-        below_distance: 0.0,
-        below_ratio: 0.2,
-        status: String::new(),
-        error: None,
-    })
     .add_plugins((
-        state::StatePlugin,
+        layout::LayoutPlugin,
         scene::ScenePlugin,
         camera::CameraPlugin,
         joint_panel::JointPanelPlugin,
-        pair_panel::PairPanelPlugin,
+        pairs::PairPanelPlugin,
         matrix_view::MatrixViewPlugin,
         selection::SelectionPlugin,
-        editing::EditingPlugin,
+        edit::EditingPlugin,
     ));
     match script {
-        Some(s) => {
-            app.insert_resource(WinitSettings::continuous())
-                .add_plugins(player::ScriptPlugin(s));
-        }
-        None => {
-            app.insert_resource(WinitSettings::desktop_app());
-        }
-    }
+        Some(s) => app.add_plugins(script::ScriptPlugin(s)),
+        // Without a script, redraw only on input.
+        None => app.insert_resource(WinitSettings::desktop_app()),
+    };
     Ok(app.run())
 }

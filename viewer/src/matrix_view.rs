@@ -4,14 +4,15 @@
 //! it (the list's selection, so highlight, witness and edits work from either). A decomposition
 //! type's map is its link level: clicking a cell opens that link pair's piece grid.
 
+use crate::layout::{UiLayout, UiOrder};
 use crate::model::Model;
-use crate::state::{Selection, Settings, UiLayout, UiOrder, Viewer};
+use crate::state::{Selection, Settings, Viewer};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use scm::matrix::{HeatMap, Verdict, consumer_link_pairs};
 use scm::shapes::{Scope, ShapeType};
 
-/// The matrix window.
+/// The matrix window. Owns [`MatrixView`] and the picture it draws.
 pub struct MatrixViewPlugin;
 
 impl Plugin for MatrixViewPlugin {
@@ -60,7 +61,7 @@ pub const FRAME_RGB: [u8; 3] = [255, 0, 255];
 /// The picture for `view` of type `t`: the piece grid of the open link pair, the exported link
 /// pairs, or the type's own matrix; `None` if the type was not sampled.
 pub fn picture(model: &Model, t: ShapeType, view: &MatrixView) -> Option<HeatMap> {
-    let data = model.type_data(t)?;
+    let data = model.sampled(t)?;
     let order = model.robot.kinematic_link_names();
     if let Some((a, b)) = &view.pieces
         && let Some(map) = HeatMap::pieces(&data.matrix, a, b)
@@ -71,7 +72,7 @@ pub fn picture(model: &Model, t: ShapeType, view: &MatrixView) -> Option<HeatMap
         return Some(HeatMap::of_type(&data.matrix, &order));
     }
     // The layers come from the link hull's link level, as the export reads them.
-    let layer = model.type_data(ShapeType::Hull).unwrap_or(data);
+    let layer = model.sampled(ShapeType::Hull).unwrap_or(data);
     let (pairs, title) = match &model.mesh {
         Some(mesh) => (
             consumer_link_pairs(layer.matrix.link_pairs(), mesh, false),
@@ -164,7 +165,7 @@ fn matrix_window(
         return Ok(());
     };
     let ctx = contexts.ctx_mut()?;
-    let Some(data) = viewer.0.type_data(settings.shape_type) else {
+    let Some(data) = viewer.0.sampled(settings.shape_type) else {
         return Ok(());
     };
     let scope = settings.shape_type.scope();
@@ -312,7 +313,12 @@ fn matrix_window(
 }
 
 /// Whether link-level `cell` holds pair `p` of the type (one of its piece pairs).
-fn holds(map: &HeatMap, cell: &scm::matrix::Cell, data: &crate::model::TypeData, p: usize) -> bool {
+fn holds(
+    map: &HeatMap,
+    cell: &scm::matrix::Cell,
+    data: &crate::model::SampledType,
+    p: usize,
+) -> bool {
     if !map.symmetric {
         return false;
     }
@@ -323,7 +329,7 @@ fn holds(map: &HeatMap, cell: &scm::matrix::Cell, data: &crate::model::TypeData,
 }
 
 /// The hover text of cell `(r, c)`: the pair, its verdict and statistics.
-fn hover_text(map: &HeatMap, data: &crate::model::TypeData, r: usize, c: usize) -> String {
+fn hover_text(map: &HeatMap, data: &crate::model::SampledType, r: usize, c: usize) -> String {
     if map.symmetric && r == c {
         return format!("{}: same link", map.rows[r]);
     }

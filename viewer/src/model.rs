@@ -11,9 +11,10 @@ use scm::shapes::ShapeType;
 use scm::urdd::Urdd;
 use std::path::Path;
 
-/// One sampled shape type: everything the pair list and the highlight need.
+/// One sampled shape type: its samples, effective matrix and distance checker (everything the pair
+/// list, the matrix view and the highlight need).
 #[derive(Debug)]
-pub struct TypeData {
+pub struct SampledType {
     /// The shape type.
     pub shape_type: ShapeType,
     /// The sample output (statistics, inferred reasons, witnesses).
@@ -21,13 +22,13 @@ pub struct TypeData {
     /// The effective matrix with the current user layer applied.
     pub matrix: SkipMatrix,
     /// Per pair, its link pair's verdict on the exact geometry with a `never`'s evidence
-    /// ([`crate::pairs::exact_text`]); empty for same-link pairs or without `sample/mesh.json`.
+    /// ([`crate::pairs::list::exact_text`]); empty for same-link pairs or without `sample/mesh.json`.
     pub exact: Vec<String>,
     /// A checker over all pairs (no skips), for current distances and closest points.
     checker: SelfChecker,
 }
 
-impl TypeData {
+impl SampledType {
     /// Number of pairs `a < b`.
     pub fn pair_count(&self) -> usize {
         self.matrix.entries.len()
@@ -83,10 +84,10 @@ pub struct Model {
     pub kinematics: Kinematics,
     /// The imported layer, if any.
     pub imported: Option<ImportedLayer>,
-    /// The user layer as loaded (edits live in [`crate::edits::Editor`]).
+    /// The user layer as loaded (edits live in [`crate::edit::editor::Editor`]).
     pub user: UserLayer,
     /// The sampled types, in [`ShapeType::ALL`] order.
-    pub types: Vec<TypeData>,
+    pub types: Vec<SampledType>,
     /// The link-level verdicts on the exact geometry (what the exported files carry), with each
     /// `never`'s evidence; `None` for a URDD sampled without them.
     pub mesh: Option<MeshFile>,
@@ -121,10 +122,10 @@ impl Model {
                     let (a, b) = (&matrix.shapes[s.a].link, &matrix.shapes[s.b].link);
                     mesh.as_ref()
                         .and_then(|f| f.pair(a, b))
-                        .map_or(String::new(), crate::pairs::exact_text)
+                        .map_or(String::new(), crate::pairs::list::exact_text)
                 })
                 .collect();
-            types.push(TypeData {
+            types.push(SampledType {
                 shape_type: t,
                 sample,
                 matrix,
@@ -153,8 +154,8 @@ impl Model {
         self.kinematics.dofs()
     }
 
-    /// The data of type `t`, if it was sampled.
-    pub fn type_data(&self, t: ShapeType) -> Option<&TypeData> {
+    /// Type `t` as sampled, if it was.
+    pub fn sampled(&self, t: ShapeType) -> Option<&SampledType> {
         self.types.iter().find(|d| d.shape_type == t)
     }
 

@@ -2,39 +2,52 @@
 //! points, its two shapes in blue and yellow with every other shape faded and outlined, and the segment
 //! between the closest points with its length.
 
+use crate::layout::UiOrder;
 use crate::scene::{OriginalMesh, ShapeEntity, to_world};
-use crate::state::{
-    BLUE, Closest, Distances, Joints, Selection, Settings, UiOrder, Viewer, YELLOW,
-};
+use crate::state::{Distances, Joints, Selection, Settings, Viewer};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use scm::query::Scratch;
 
-/// Selection, highlight and the closest-point segment.
+/// Selection, highlight and the closest-point segment. Owns [`Selection`], [`Distances`] and
+/// [`Closest`].
 pub struct SelectionPlugin;
 
 impl Plugin for SelectionPlugin {
     fn build(&self, app: &mut App) {
-        app.add_systems(
-            Update,
-            (
-                clear_selection_on_type_change.run_if(resource_changed::<Settings>),
-                update_distances
-                    .run_if(resource_changed::<Joints>.or_eager(resource_changed::<Settings>)),
-                update_closest
-                    .run_if(resource_changed::<Joints>.or_eager(resource_changed::<Selection>)),
-                highlight_selected_pair
-                    .run_if(resource_changed::<Selection>.or_eager(resource_changed::<Settings>)),
-                draw_outlines_and_segment,
+        app.init_resource::<Selection>()
+            .init_resource::<Distances>()
+            .init_resource::<Closest>()
+            .add_systems(
+                Update,
+                (
+                    clear_selection_on_type_change.run_if(resource_changed::<Settings>),
+                    update_distances
+                        .run_if(resource_changed::<Joints>.or_eager(resource_changed::<Settings>)),
+                    update_closest
+                        .run_if(resource_changed::<Joints>.or_eager(resource_changed::<Selection>)),
+                    highlight_selected_pair.run_if(
+                        resource_changed::<Selection>.or_eager(resource_changed::<Settings>),
+                    ),
+                    draw_outlines_and_segment,
+                )
+                    .chain(),
             )
-                .chain(),
-        )
-        .add_systems(
-            EguiPrimaryContextPass,
-            distance_label.in_set(UiOrder::Overlay),
-        );
+            .add_systems(
+                EguiPrimaryContextPass,
+                distance_label.in_set(UiOrder::Overlay),
+            );
     }
 }
+
+/// The selected pair's closest points (robot root frame) and signed distance, when one is selected.
+#[derive(Resource, Debug, Clone, Default)]
+pub struct Closest(pub Option<(f64, [scm::math::Vec3; 2])>);
+
+/// The highlight colour of the selected pair's first shape (blue, sRGB).
+pub const BLUE: [f32; 3] = [0.1, 0.3, 1.0];
+/// The highlight colour of the selected pair's second shape (yellow, sRGB).
+pub const YELLOW: [f32; 3] = [1.0, 0.85, 0.05];
 
 /// Opacity of the shapes that are not selected while a pair is.
 const FADED: f32 = 0.12;
@@ -61,7 +74,7 @@ fn update_distances(
     mut scratch: Local<Scratch>,
     mut distances: ResMut<Distances>,
 ) {
-    if let Some(data) = viewer.0.type_data(settings.shape_type) {
+    if let Some(data) = viewer.0.sampled(settings.shape_type) {
         match data.distances(&joints.q, &mut scratch) {
             Ok(d) => distances.0 = d,
             Err(e) => error!("distances: {e}"),
@@ -78,7 +91,7 @@ fn update_closest(
     mut scratch: Local<Scratch>,
     mut closest: ResMut<Closest>,
 ) {
-    closest.0 = viewer.0.type_data(settings.shape_type).and_then(|data| {
+    closest.0 = viewer.0.sampled(settings.shape_type).and_then(|data| {
         let p = selection.within(data.pair_count())?;
         data.closest_points(&joints.q, p, &mut scratch).ok()
     });
@@ -93,7 +106,7 @@ fn highlight_selected_pair(
     originals: Query<&MeshMaterial3d<StandardMaterial>, With<OriginalMesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
 ) {
-    let pair = viewer.0.type_data(settings.shape_type).and_then(|data| {
+    let pair = viewer.0.sampled(settings.shape_type).and_then(|data| {
         let p = selection.within(data.pair_count())?;
         Some(data.pair(p))
     });

@@ -1,30 +1,58 @@
 //! Pair panel plugin (right): the selected type's pairs with their verdict, reason and statistics,
 //! sortable and filtered; the selected pair's details and a button to its witness configuration.
+//! Which pairs the list shows, in which order and under which names is decided by [`list`].
+
+pub mod list;
 
 use crate::camera::FrameRequest;
-use crate::pairs::{SortKey, pair_label, ratio, ratio_text, visible_pairs};
-use crate::state::{
-    Distances, Joints, PairRows, PairView, Selection, Settings, UiLayout, UiOrder, Viewer,
-};
+use crate::layout::{UiLayout, UiOrder};
+use crate::state::{Distances, Joints, Selection, Settings, Viewer};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
+use list::{SortKey, pair_label, ratio, ratio_text, visible_pairs};
+use scm::shapes::ShapeType;
 
-/// The right panel and the list it shows.
+/// The right panel and the list it shows. Owns [`PairView`] and [`PairRows`].
 pub struct PairPanelPlugin;
 
 impl Plugin for PairPanelPlugin {
     fn build(&self, app: &mut App) {
-        app.add_systems(
-            Update,
-            refresh_pair_rows.run_if(
-                resource_changed::<Distances>
-                    .or_eager(resource_changed::<Settings>)
-                    .or_eager(resource_changed::<PairView>)
-                    .or_eager(resource_changed::<Viewer>),
-            ),
-        )
-        .add_systems(EguiPrimaryContextPass, pair_panel.in_set(UiOrder::Right));
+        app.init_resource::<PairView>()
+            .init_resource::<PairRows>()
+            .add_systems(
+                Update,
+                refresh_pair_rows.run_if(
+                    resource_changed::<Distances>
+                        .or_eager(resource_changed::<Settings>)
+                        .or_eager(resource_changed::<PairView>)
+                        .or_eager(resource_changed::<Viewer>),
+                ),
+            )
+            .add_systems(EguiPrimaryContextPass, pair_panel.in_set(UiOrder::Right));
     }
+}
+
+/// The pair list's sort key, filter and name style (set in the panel or by the script).
+#[derive(Resource, Debug, Clone, Default, PartialEq)]
+pub struct PairView {
+    /// Sort key.
+    pub sort: SortKey,
+    /// Filter text.
+    pub filter: String,
+    /// Write the two names' shared prefix and suffix once (`leg_{left,right}_4_link`).
+    pub compact: bool,
+}
+
+/// The pairs the list shows, in order (derived from [`PairView`], [`Distances`] and the matrix of
+/// the type they were computed for).
+#[derive(Resource, Debug, Clone, Default)]
+pub struct PairRows {
+    /// The type the rows index into.
+    pub shape_type: Option<ShapeType>,
+    /// Pair indices, in order.
+    pub rows: Vec<usize>,
+    /// Characters of the longest pair name among the rows (the name column's width).
+    pub name_width: usize,
 }
 
 /// Recomputes the visible rows after a change of distances, sort, filter or matrix.
@@ -35,7 +63,7 @@ fn refresh_pair_rows(
     distances: Res<Distances>,
     mut rows: ResMut<PairRows>,
 ) {
-    if let Some(data) = viewer.0.type_data(settings.shape_type)
+    if let Some(data) = viewer.0.sampled(settings.shape_type)
         && distances.0.len() == data.pair_count()
     {
         rows.rows = visible_pairs(
@@ -82,7 +110,7 @@ fn pair_panel(
     mut frame: ResMut<FrameRequest>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
-    let Some(data) = viewer.0.type_data(settings.shape_type) else {
+    let Some(data) = viewer.0.sampled(settings.shape_type) else {
         return Ok(());
     };
     let m = &data.matrix;

@@ -1,6 +1,6 @@
-//! Action scripts: the viewer's scripted mode reads one action per line (`#` after whitespace or at the
-//! start begins a comment; `link#2` names a piece), checks
-//! every line against the loaded URDD before the window opens, then plays them frame by frame.
+//! Reading action scripts: one action per line (`#` after whitespace or at the start begins a comment;
+//! `link#2` names a piece), every line checked against the loaded URDD before the window opens. Plain
+//! Rust; the script plugin ([`super::ScriptPlugin`]) plays them frame by frame.
 //!
 //! ```text
 //! home | random SEED | joint NAME VALUE | config V1 .. Vn | witness
@@ -12,7 +12,7 @@
 //! ```
 
 use crate::model::Model;
-use crate::pairs::{SortKey, find_pair};
+use crate::pairs::list::{SortKey, find_pair};
 use scm::error::{Error, Result};
 use scm::shapes::ShapeType;
 use std::path::{Path, PathBuf};
@@ -117,7 +117,7 @@ impl Script {
         let mut selected = false;
         for (line, action) in &self.actions {
             let fail = |m: String| Err(Error::input(&self.path, line_label(*line), m));
-            let data = model.type_data(t);
+            let data = model.sampled(t);
             match action {
                 Action::Joint(name, _) if !model.dofs().iter().any(|d| &d.name == name) => {
                     return fail(format!("no joint \"{name}\" among the robot's DOFs"));
@@ -130,7 +130,7 @@ impl Script {
                     ));
                 }
                 Action::Type(new) => {
-                    if model.type_data(*new).is_none() {
+                    if model.sampled(*new).is_none() {
                         return fail(format!("type {new} was not sampled in this URDD"));
                     }
                     t = *new;

@@ -1,4 +1,4 @@
-//! What the scene draws, prepared in plain Rust before the window opens: every shape of every sampled
+//! What the scene plugin ([`super::ScenePlugin`]) draws, prepared in plain Rust before the window opens: every shape of every sampled
 //! type and every link's original mesh as flat-shaded triangles in the link frame, with outline edges.
 
 use crate::model::Model;

@@ -1,7 +1,8 @@
-//! Edits of the user layer: marks on one pair, the two bulk rules, undo and redo. Plain Rust over the
-//! library's [`UserLayer`] and [`SkipMatrix`]; the Bevy editing plugin only calls into it.
+//! The editor of the user layer: marks on one pair, the two bulk rules, undo and redo. Plain Rust over
+//! the library's [`UserLayer`] and [`SkipMatrix`]; the editing plugin ([`super::EditingPlugin`]) only
+//! calls into it.
 
-use crate::pairs::ratio;
+use crate::pairs::list::ratio;
 use scm::matrix::{SkipMatrix, UserLayer};
 
 /// One edit a person (or an action script) asks for, on the pairs of one type.

@@ -1,14 +1,19 @@
 //! Scene plugin: the robot's shapes of every sampled type and its original meshes as entities under
-//! one frame per link, posed by forward kinematics; lights and the floor grid.
+//! one frame per link, posed by forward kinematics; lights and the floor grid. What it draws is
+//! prepared before the window opens by [`geometry`].
 
-use crate::geometry::{SceneGeometry, Triangles, hull_triangles};
+pub mod geometry;
+
 use crate::state::{Joints, Settings, Viewer};
 use bevy::asset::RenderAssetUsages;
 use bevy::mesh::PrimitiveTopology;
 use bevy::prelude::*;
+use geometry::{SceneGeometry, Triangles, hull_triangles};
 use scm::shapes::{Geometry, ShapeType};
 
-/// Draws the robot in the current configuration with the selected type's shapes.
+/// Draws the robot in the current configuration with the selected type's shapes. Reads the
+/// [`SceneGeometryRes`] inserted with the model; sets the clear colour and ambient light, and inserts
+/// [`SceneBounds`] once the robot is spawned.
 pub struct ScenePlugin;
 
 impl Plugin for ScenePlugin {
@@ -204,7 +209,7 @@ fn spawn_robot(
     }
 }
 
-/// The loaded scene geometry (inserted before startup).
+/// The loaded scene geometry (inserted by [`crate::run`] with the model, before startup).
 #[derive(Resource)]
 pub struct SceneGeometryRes(pub SceneGeometry);
 

@@ -1,24 +1,70 @@
 //! Editing plugin: the edit panel (marks on the selected pair, the two bulk rules, undo, redo, save)
 //! and the system that applies edit requests to the user layer, re-resolves the matrices and, on
-//! save, writes the layer atomically and re-runs the export.
+//! save, writes the layer atomically and re-runs the export. The marks, rules and undo history are
+//! [`editor::Editor`]'s.
 
-use crate::edits::Edit;
-use crate::state::{
-    Distances, EditRequest, Editing, Selection, Settings, UiLayout, UiOrder, Viewer,
-};
+pub mod editor;
+
+use crate::layout::{UiLayout, UiOrder};
+use crate::state::{Distances, Selection, Settings, Viewer};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
+use editor::{Edit, Editor};
 use scm::export::{ExportOptions, export};
 use scm::progress::NoProgress;
 
-/// Skip marks, bulk rules, undo / redo and save.
+/// Skip marks, bulk rules, undo / redo and save. Owns [`Editing`] (an editor of the [`Viewer`]
+/// model's user layer, which must be inserted first) and the [`EditRequest`] message.
 pub struct EditingPlugin;
 
 impl Plugin for EditingPlugin {
     fn build(&self, app: &mut App) {
-        app.add_systems(Update, (edit_shortcuts, apply_edit_requests).chain())
+        app.init_resource::<Editing>()
+            .add_message::<EditRequest>()
+            .add_systems(Update, (edit_shortcuts, apply_edit_requests).chain())
             .add_systems(EguiPrimaryContextPass, edit_panel.in_set(UiOrder::Bottom));
     }
+}
+
+/// The user layer being edited, the bulk rules' thresholds and the last outcome shown to the user.
+#[derive(Resource, Debug)]
+pub struct Editing {
+    /// Marks with undo and redo.
+    pub editor: Editor,
+    /// Threshold of the distance rule (m).
+    pub below_distance: f64,
+    /// Threshold of the `d / d_mean` rule.
+    pub below_ratio: f64,
+    /// What the last edit or save did.
+    pub status: String,
+    /// The last save's error, if it failed.
+    pub error: Option<String>,
+}
+
+impl FromWorld for Editing {
+    /// Edits the user layer as loaded, with the rules' default thresholds (0 m and 0.2).
+    fn from_world(world: &mut World) -> Self {
+        Editing {
+            editor: Editor::new(world.resource::<Viewer>().0.user.clone()),
+            below_distance: 0.0,
+            below_ratio: 0.2,
+            status: String::new(),
+            error: None,
+        }
+    }
+}
+
+/// An edit request from the panels or the action script, applied by [`EditingPlugin`].
+#[derive(Message, Debug, Clone, PartialEq)]
+pub enum EditRequest {
+    /// Apply an edit to the selected type.
+    Apply(Edit),
+    /// Undo the last edit.
+    Undo,
+    /// Redo the last undone edit.
+    Redo,
+    /// Save the user layer and re-run the export.
+    Save,
 }
 
 /// Saves the user layer of `viewer` into its URDD and re-runs the export; returns what it did.
@@ -49,7 +95,7 @@ fn apply_edit_requests(
     for request in requests.read() {
         let changed = match request {
             EditRequest::Apply(edit) => {
-                let Some(data) = viewer.0.type_data(settings.shape_type) else {
+                let Some(data) = viewer.0.sampled(settings.shape_type) else {
                     continue;
                 };
                 let (n, label) = editing.editor.apply(edit, &data.matrix, &distances.0);
