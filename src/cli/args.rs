@@ -226,10 +226,12 @@ pub struct SampleArgs {
     /// Sampling.
     #[command(flatten)]
     pub sampling: SamplingArgs,
-    /// Compute only shard K of N (0-based) and write its partial result into DIR/sample-shards/.
+    /// Compute only shard K of N (0-based) and write its partial result into DIR/sample-shards/;
+    /// shards take no lock and run side by side, on any machine with a copy of DIR.
     #[arg(long, value_name = "K/N", conflicts_with = "merge_shards")]
     pub shard: Option<String>,
-    /// Merge the N shard results in DIR/sample-shards/ into the sample output.
+    /// Merge the N shard results in DIR/sample-shards/ into the sample output; every shard must come
+    /// from this URDD's preprocess output with the same sampling flags as the merge.
     #[arg(long, value_name = "N")]
     pub merge_shards: Option<u32>,
     /// Recompute even if the URDD is up to date.

@@ -29,9 +29,7 @@ pub use stats::PairStats;
 use crate::error::{Error, Result};
 use crate::progress::Progress;
 use crate::shapes::ShapeType;
-use crate::urdd::{
-    PREPROCESS, StageDir, StageRecord, Urdd, json_bytes, read_json_file, write_atomic,
-};
+use crate::urdd::{PREPROCESS, StageDir, StageRecord, Urdd, json_bytes, write_atomic};
 use crate::urdd::{compact_json, parameters};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -141,12 +139,153 @@ pub struct SampleReport {
     pub notes: Vec<String>,
 }
 
-/// A shard's partial result: exact accumulators of its chunks.
+/// The `format` of a shard file.
+const SHARD_FORMAT: &str = "scm-sample-shard";
+/// The version of the shard file format, raised when a field changes meaning.
+const SHARD_FORMAT_VERSION: u32 = 1;
+
+/// A shard's partial result, self-contained so a scheduler can ship it: everything the merge checks it
+/// against (no paths, nothing of the machine it ran on) and the exact accumulators of its chunks.
+/// Every header field defaults, so a file that is something else fails on `format`, not on serde.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 struct ShardFile {
+    /// [`SHARD_FORMAT`].
+    #[serde(default)]
+    format: String,
+    /// [`SHARD_FORMAT_VERSION`] when written by this build.
+    #[serde(default)]
+    format_version: u32,
+    /// The scm that sampled it.
+    #[serde(default)]
+    tool_version: String,
+    /// The robot's name.
+    #[serde(default)]
+    robot: String,
+    /// The key of the preprocess output it sampled.
+    #[serde(default)]
+    preprocess: String,
+    /// The sampling options of the stage key: samples, seed, types and every other parameter.
+    #[serde(default)]
+    options: serde_json::Value,
+    /// Which shard of how many.
+    #[serde(default)]
+    shard: Option<Shard>,
+    /// The sample stage key of that preprocess output and those options.
+    #[serde(default)]
     key: String,
-    shard: Shard,
+    /// Per type, per pair: the exact accumulators of this shard's chunks.
+    #[serde(default)]
     stats: BTreeMap<ShapeType, Vec<PairStats>>,
+}
+
+impl ShardFile {
+    /// What shard `shard` of `opts` on `urdd` records besides its statistics.
+    fn header(urdd: &Urdd, opts: &SampleOptions, shard: Shard) -> Result<ShardFile> {
+        Ok(ShardFile {
+            format: SHARD_FORMAT.into(),
+            format_version: SHARD_FORMAT_VERSION,
+            tool_version: crate::VERSION.into(),
+            robot: urdd.manifest().robot.clone(),
+            preprocess: urdd.stage(PREPROCESS)?.key.clone(),
+            options: parameters(SAMPLE, opts)?,
+            shard: Some(shard),
+            key: stage_key(urdd, opts)?,
+            stats: BTreeMap::new(),
+        })
+    }
+
+    /// Reads the shard file at `path`; an unreadable, truncated or malformed file is bad input naming
+    /// it, never empty data.
+    fn read(path: &Path) -> Result<ShardFile> {
+        let bytes = std::fs::read(path)
+            .map_err(|e| Error::input(path, "file", format!("cannot read: {e}")))?;
+        serde_json::from_slice(&bytes).map_err(|e| {
+            let what = if bytes.is_empty() {
+                "empty".to_string()
+            } else if e.is_eof() {
+                format!("truncated after {} bytes", bytes.len())
+            } else {
+                format!("invalid JSON: {e}")
+            };
+            Error::input(
+                path,
+                format!("line {}, column {}", e.line(), e.column()),
+                format!("{what}; copy it again or rerun this shard"),
+            )
+        })
+    }
+
+    /// Whether this shard (read from `path`) merges with `expected`: the first field that differs
+    /// is bad input naming it and both values.
+    fn check(&self, expected: &ShardFile, path: &Path) -> Result<()> {
+        if self.format != SHARD_FORMAT {
+            let message = format!("not a sample shard file (no \"format\": \"{SHARD_FORMAT}\")");
+            return Err(Error::input(path, "format", message));
+        }
+        let found: BTreeMap<String, serde_json::Value> = self.fields().into_iter().collect();
+        let Some((field, wanted)) = expected
+            .fields()
+            .into_iter()
+            .find(|(field, wanted)| found.get(field) != Some(wanted))
+        else {
+            return Ok(());
+        };
+        let show = |v: Option<&serde_json::Value>| match v {
+            Some(serde_json::Value::String(s)) if s.len() > 16 => {
+                format!("{}...", s.chars().take(12).collect::<String>())
+            }
+            Some(v) => v.to_string(),
+            None => "nothing".into(),
+        };
+        let hint = match field.as_str() {
+            "format_version" | "tool_version" => "rerun this shard with this scm",
+            "robot" | "preprocess" => "rerun this shard on a copy of this URDD",
+            "shard" | "key" => "rerun this shard",
+            _ => "give the shards and the merge the same sampling flags, or rerun this shard",
+        };
+        let message = format!(
+            "this shard has {}, the merge expects {}; {hint}",
+            show(found.get(&field)),
+            show(Some(&wanted))
+        );
+        Err(Error::input(path, field, message))
+    }
+
+    /// The fields the merge compares, in the order it reports them: the header, then every sampling
+    /// option by name (`seed`, `samples`, `search.margin` ...), then the stage key they give.
+    fn fields(&self) -> Vec<(String, serde_json::Value)> {
+        use serde_json::json;
+        let mut fields = vec![
+            ("format_version".into(), json!(self.format_version)),
+            ("tool_version".into(), json!(self.tool_version)),
+            (
+                "shard".into(),
+                json!(self.shard.map(|s| format!("{}/{}", s.index, s.count))),
+            ),
+            ("robot".into(), json!(self.robot)),
+            ("preprocess".into(), json!(self.preprocess)),
+        ];
+        flatten("", &self.options, &mut fields);
+        fields.push(("key".into(), json!(self.key)));
+        fields
+    }
+}
+
+/// The leaves of a JSON tree with their dotted names.
+fn flatten(prefix: &str, value: &serde_json::Value, out: &mut Vec<(String, serde_json::Value)>) {
+    match value {
+        serde_json::Value::Object(map) => {
+            for (k, v) in map {
+                let name = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                flatten(&name, v, out);
+            }
+        }
+        leaf => out.push((prefix.into(), leaf.clone())),
+    }
 }
 
 /// How far (m) d_min and d_max may lie from the exact extremes over the samples by default: 0.09 mm,
@@ -222,11 +361,13 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
     if let Some(shard) = opts.shard {
         let name = Shard::file(shard.count, shard.index);
         let file = ShardFile {
-            key,
-            shard,
             stats: engine.sets.iter().map(|s| s.shape_type).zip(acc).collect(),
+            ..ShardFile::header(&urdd, opts, shard)?
         };
-        write_atomic(&opts.urdd.join(SHARDS).join(&name), &json_bytes(&file))?;
+        // Compact: a scheduler ships it between machines.
+        let mut bytes = compact_json(&name, &file)?;
+        bytes.push(b'\n');
+        write_atomic(&opts.urdd.join(SHARDS).join(&name), &bytes)?;
         return Ok(report(
             false,
             Some(format!("{SHARDS}/{name}")),
@@ -254,6 +395,8 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
 }
 
 /// Merges the `count` shard files in the URDD into the sample stage output (identical to one run).
+/// Every shard must be there and match this URDD's preprocess output and `opts`; a missing, foreign
+/// or broken shard is bad input naming it, and nothing is written.
 pub fn merge_shards(
     opts: &SampleOptions,
     count: u32,
@@ -261,33 +404,46 @@ pub fn merge_shards(
 ) -> Result<SampleReport> {
     let (mut urdd, _lock) = Urdd::open_for_writing(&opts.urdd, progress)?;
     let key = stage_key(&urdd, opts)?;
+    let paths: Vec<PathBuf> = (0..count)
+        .map(|index| opts.urdd.join(SHARDS).join(Shard::file(count, index)))
+        .collect();
+    // All present before any is read, so the one line names every shard still to run.
+    let missing: Vec<u32> = (0..count)
+        .filter(|&index| !paths[index as usize].is_file())
+        .collect();
+    if let Some(&first) = missing.first() {
+        let others = match missing.len() {
+            1 => String::new(),
+            n => {
+                let listed: Vec<String> = missing.iter().take(8).map(u32::to_string).collect();
+                let more = if n > 8 { ", ..." } else { "" };
+                format!(" (missing shards: {}{more})", listed.join(", "))
+            }
+        };
+        return Err(Error::input(
+            &paths[first as usize],
+            format!("shard {first} of {count}"),
+            format!(
+                "missing{others}; run `scm sample {} --shard {first}/{count}` with the merge's sampling flags",
+                opts.urdd.display()
+            ),
+        ));
+    }
     let engine = Engine::load(&urdd, &opts.types)?;
     let mut acc: Vec<Vec<PairStats>> = engine
         .sets
         .iter()
         .map(|s| vec![PairStats::default(); s.pairs.len()])
         .collect();
+    let expected = ShardFile::header(&urdd, opts, Shard { index: 0, count })?;
     progress.start("merging shards", u64::from(count));
-    for index in 0..count {
-        let path = opts.urdd.join(SHARDS).join(Shard::file(count, index));
-        if !path.is_file() {
-            return Err(Error::input(
-                &path,
-                "shard",
-                format!(
-                    "missing; run `scm sample {} --shard {index}/{count}`",
-                    opts.urdd.display()
-                ),
-            ));
-        }
-        let shard: ShardFile = read_json_file(&path)?;
-        if shard.key != key {
-            return Err(Error::input(
-                &path,
-                "key",
-                "computed with other parameters or another preprocess output; rerun this shard",
-            ));
-        }
+    for (index, path) in (0..count).zip(&paths) {
+        let shard = ShardFile::read(path)?;
+        let expected = ShardFile {
+            shard: Some(Shard { index, count }),
+            ..expected.clone()
+        };
+        shard.check(&expected, path)?;
         for (set, stats) in engine.sets.iter().zip(acc.iter_mut()) {
             let part = shard
                 .stats
@@ -295,7 +451,7 @@ pub fn merge_shards(
                 .filter(|p| p.len() == stats.len())
                 .ok_or_else(|| {
                     Error::input(
-                        &path,
+                        path,
                         format!("stats.{}", set.shape_type),
                         "missing or of the wrong length",
                     )
