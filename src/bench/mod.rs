@@ -6,14 +6,20 @@
 //!   ([`accuracy`], [`truth`]).
 //!
 //! Writes `DIR/bench/bench.md` and `DIR/bench/bench.json` atomically and records a `bench` stage.
+//!
+//! `scm bench --scale` ([`scale`]) measures instead how sampling grows with the robot: time and peak
+//! memory of `scm sample` child processes ([`child`]) against links, pieces and pairs.
 
 pub mod accuracy;
+pub mod child;
 mod markdown;
+pub mod scale;
 pub mod timing;
 pub mod truth;
 
 pub use accuracy::Accuracy;
 pub use markdown::render;
+pub use scale::{ScaleOptions, ScaleReport, render_scale, scale};
 pub use timing::{QueryKind, Timing};
 pub use truth::MeshTruth;
 

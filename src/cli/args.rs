@@ -199,8 +199,10 @@ pub struct ViewArgs {
 /// `scm bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// The URDD directory (after `scm sample`).
-    pub urdd: PathBuf,
+    /// The URDD directory (after `scm sample`); with --scale, the robots: URDF files or preprocessed
+    /// URDD directories (a URDD is sampled where it is: its sample stage is replaced).
+    #[arg(required = true, value_name = "DIR")]
+    pub urdd: Vec<PathBuf>,
     /// Fresh random configurations timed per type [default: 5000].
     #[arg(long, short = 'm', value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     pub configs: Option<u64>,
@@ -216,6 +218,21 @@ pub struct BenchArgs {
     /// Shape types to measure (comma-separated ids); default every sampled type.
     #[arg(long, value_delimiter = ',')]
     pub types: Vec<String>,
+    /// Instead of tables 1-3, the scale table: per robot its links, DOFs, pieces and pairs against the
+    /// time and peak memory of `scm sample --force` (a child process) and the work it recorded.
+    #[arg(long, conflicts_with_all = ["configs", "repeats", "truth_configs", "seed", "types"])]
+    pub scale: bool,
+    /// With --scale: samples of each sample run [default: 100000].
+    #[arg(long, short = 'n', requires = "scale", value_parser = clap::value_parser!(u64).range(1..=scm::sample::MAX_SAMPLES))]
+    pub samples: Option<u64>,
+    /// With --scale: sample runs per robot, alternating between robots; the table gives the medians
+    /// [default: 1; 3 recommended].
+    #[arg(long, requires = "scale", value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub runs: Option<u32>,
+    /// With --scale: the folder URDF inputs are preprocessed into, one URDD per robot, kept
+    /// [default: a temporary folder, removed afterwards].
+    #[arg(long, short = 'o', value_name = "DIR", requires = "scale")]
+    pub output: Option<PathBuf>,
 }
 
 /// `scm sample`.
