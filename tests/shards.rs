@@ -203,8 +203,10 @@ fn four_shards_through_xargs_merge_into_the_bytes_of_one_run() {
 fn a_shard_computed_in_a_copy_at_another_path_merges() {
     let (dir, robot) = preprocessed_from_copy("shards-home");
     // Ship the preprocessed URDD to a "node": another path, and no robot files (moved away meanwhile).
+    // What a scheduler ships to a shard: the manifest and the preprocess output, nothing else.
     let node = common::scratch("shards-node").join("copy.urdd");
-    copy_dir(&dir, &node);
+    copy_dir(&dir.join("preprocess"), &node.join("preprocess"));
+    std::fs::copy(dir.join("manifest.json"), node.join("manifest.json")).unwrap();
     let away = robot.with_extension("away");
     std::fs::rename(&robot, &away).unwrap();
     sample(&node, &["--shard", "2/4"]);
@@ -228,9 +230,17 @@ fn a_shard_computed_in_a_copy_at_another_path_merges() {
 fn a_missing_foreign_or_truncated_shard_is_bad_input_naming_it() {
     let dir = common::preprocessed(&common::demo_urdf(), "shards-bad");
     let shown = dir.display();
-    for k in [0, 1, 2] {
+    for k in [0, 1] {
         sample(&dir, &["--shard", &format!("{k}/4")]);
     }
+    assert_eq!(
+        bad_merge(&dir),
+        format!(
+            "scm: error: {shown}/sample-shards/shard-2-of-4.json: shard 2 of 4: missing \
+             (missing shards: 2, 3); run `scm sample {shown} --shard 2/4` with the merge's sampling flags"
+        )
+    );
+    sample(&dir, &["--shard", "2/4"]);
     assert_eq!(
         bad_merge(&dir),
         format!(
@@ -311,4 +321,188 @@ fn a_missing_foreign_or_truncated_shard_is_bad_input_naming_it() {
     std::fs::write(&shard3, &whole).unwrap();
     sample(&dir, &["--merge-shards", "4"]);
     assert!(dir.join("sample/mesh.json").is_file());
+}
+
+/// The recipes of docs/cluster.md, in `scripts/cluster/`.
+fn recipe(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scripts/cluster")
+        .join(name)
+}
+
+/// A `Command` whose `scm` on the PATH is the binary under test, as in the recipes' container image.
+fn with_scm_on_path(program: &str) -> Command {
+    let bin = Path::new(env!("CARGO_BIN_EXE_scm")).parent().unwrap();
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    let mut paths = vec![bin.to_path_buf()];
+    paths.extend(std::env::split_paths(&path));
+    let mut c = Command::new(program);
+    c.env("PATH", std::env::join_paths(paths).unwrap());
+    c.env_remove("SCM");
+    c
+}
+
+/// The flags the recipe tests sample with (the recipes pass any flags through).
+const RECIPE_FLAGS: [&str; 4] = ["-n", SAMPLES, "--types", TYPES];
+
+/// A single run's sample/ and export/ (without export.json, which names the URDD) on a copy of `base`.
+fn single_run(base: &Path, name: &str) -> BTreeMap<PathBuf, Vec<u8>> {
+    let single = common::scratch(name);
+    copy_dir(base, &single);
+    sample(&single, &[]);
+    let o = common::scm_str(&["-q", "export", single.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    outputs(&single)
+}
+
+/// `dir`'s sample/ and export/ files, export.json left out.
+fn outputs(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut all = BTreeMap::new();
+    for folder in ["sample", "export"] {
+        for (name, bytes) in files(&dir.join(folder)) {
+            all.insert(Path::new(folder).join(name), bytes);
+        }
+    }
+    all.remove(Path::new("export/export.json"));
+    all
+}
+
+/// Waits for every child, asserting each succeeded.
+fn wait_all(children: Vec<std::process::Child>) {
+    for child in children {
+        let o = child.wait_with_output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+}
+
+#[test]
+fn the_slurm_job_array_recipe_merges_into_the_bytes_of_one_run() {
+    let base = common::preprocessed(&common::demo_urdf(), "slurm-base");
+    let one = single_run(&base, "slurm-one");
+    let dir = common::scratch("slurm-array");
+    copy_dir(&base, &dir);
+    // `sbatch --array=1-4`: four tasks at once with the variables Slurm sets (ids from 1, to check
+    // the offset), then the merge job.
+    let tasks = (1..=4)
+        .map(|id| {
+            with_scm_on_path("bash")
+                .arg(recipe("slurm-shards.sbatch"))
+                .arg(&dir)
+                .args(RECIPE_FLAGS)
+                .env("SLURM_ARRAY_TASK_ID", id.to_string())
+                .env("SLURM_ARRAY_TASK_MIN", "1")
+                .env("SLURM_ARRAY_TASK_COUNT", "4")
+                .env("SLURM_CPUS_PER_TASK", "1")
+                .stdout(std::process::Stdio::piped())
+                .stderr(std::process::Stdio::piped())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    wait_all(tasks);
+    for k in 0..4 {
+        assert!(shard_file(&dir, k).is_file(), "no shard {k}");
+    }
+    let merge = with_scm_on_path("bash")
+        .arg(recipe("slurm-merge.sbatch"))
+        .arg(&dir)
+        .arg("4")
+        .args(RECIPE_FLAGS)
+        .output()
+        .unwrap();
+    assert!(
+        merge.status.success(),
+        "{}",
+        String::from_utf8_lossy(&merge.stderr)
+    );
+    let four = outputs(&dir);
+    assert!(one.len() > 10, "{:?}", one.keys());
+    assert_eq!(
+        one.keys().collect::<Vec<_>>(),
+        four.keys().collect::<Vec<_>>()
+    );
+    for (name, bytes) in &one {
+        assert!(four[name] == *bytes, "{} differs", name.display());
+    }
+}
+
+/// A Job manifest of `scripts/cluster/`: (completions, completion mode, the container's command, its
+/// environment).
+fn job(name: &str) -> (u64, String, Vec<String>, BTreeMap<String, String>) {
+    let text = std::fs::read_to_string(recipe(name)).unwrap();
+    let v: serde_json::Value = serde_saphyr::from_str(&text).unwrap();
+    assert_eq!(v["kind"], "Job", "{name}");
+    let spec = &v["spec"];
+    let container = &spec["template"]["spec"]["containers"][0];
+    let command = container["command"].as_array().unwrap();
+    let env = container["env"].as_array().unwrap();
+    (
+        spec["completions"].as_u64().unwrap(),
+        spec["completionMode"]
+            .as_str()
+            .unwrap_or("NonIndexed")
+            .into(),
+        command.iter().map(|c| c.as_str().unwrap().into()).collect(),
+        env.iter()
+            .map(|e| {
+                (
+                    e["name"].as_str().unwrap().into(),
+                    e["value"].as_str().unwrap().into(),
+                )
+            })
+            .collect(),
+    )
+}
+
+#[test]
+fn the_kubernetes_indexed_job_recipe_merges_into_the_bytes_of_one_run() {
+    let (completions, mode, command, env) = job("k8s-shards.yaml");
+    assert_eq!(mode, "Indexed");
+    assert_eq!(
+        env["SHARDS"],
+        completions.to_string(),
+        "SHARDS is the completion count"
+    );
+    let (merge_completions, _, merge_command, merge_env) = job("k8s-merge.yaml");
+    assert_eq!(merge_completions, 1);
+    for name in ["URDD", "SHARDS", "SAMPLE_FLAGS"] {
+        assert_eq!(
+            env[name], merge_env[name],
+            "the merge Job's {name} is the shard Job's"
+        );
+    }
+
+    let base = common::preprocessed(&common::demo_urdf(), "k8s-base");
+    let one = single_run(&base, "k8s-one");
+    // The volume: the URDD lies where the manifests' URDD says, under a scratch folder for /data.
+    let volume = common::scratch("k8s-volume");
+    let urdd = Path::new(&env["URDD"]);
+    let dir = volume.join(urdd.strip_prefix("/data").unwrap());
+    copy_dir(&base, &dir);
+    // Each pod runs the container's command with the Job's environment and its completion index.
+    let run = |command: &[String], env: &BTreeMap<String, String>, index: Option<u64>| {
+        let mut c = with_scm_on_path(&command[0]);
+        c.args(&command[1..]).envs(env).env("URDD", &dir);
+        c.env("SAMPLE_FLAGS", RECIPE_FLAGS.join(" "));
+        if let Some(i) = index {
+            c.env("JOB_COMPLETION_INDEX", i.to_string());
+        }
+        c.stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped());
+        c.spawn().unwrap()
+    };
+    wait_all(
+        (0..completions)
+            .map(|i| run(&command, &env, Some(i)))
+            .collect(),
+    );
+    wait_all(vec![run(&merge_command, &merge_env, None)]);
+    let four = outputs(&dir);
+    assert_eq!(
+        one.keys().collect::<Vec<_>>(),
+        four.keys().collect::<Vec<_>>()
+    );
+    for (name, bytes) in &one {
+        assert!(four[name] == *bytes, "{} differs", name.display());
+    }
 }
