@@ -9,6 +9,7 @@ use scm::shapes::ShapeType;
 use scm::urdd::Urdd;
 use std::collections::BTreeSet;
 use std::path::Path;
+use std::process::Output;
 
 fn read_sample(dir: &Path, t: ShapeType) -> SampleFile {
     scm::urdd::read_json_file(&dir.join("sample").join(format!("{}.json", t.id()))).unwrap()
@@ -152,8 +153,12 @@ fn same_seed_same_bytes_at_any_thread_count_and_sharding() {
         dir
     };
     let (one, two) = (fresh("t1"), fresh("t2"));
-    sample_in(&one, &["--threads", "1"]);
-    sample_in(&two, &["--threads", "2"]);
+    let work = |o: Output| -> serde_json::Value {
+        let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        report["work"].clone()
+    };
+    let work_one = work(sample_in(&one, &["--threads", "1", "--json"]));
+    let work_two = work(sample_in(&two, &["--threads", "2", "--json"]));
     let reference = sample_bytes(&one);
     assert_eq!(reference.len(), 5, "four types and mesh.json");
     assert_eq!(
@@ -161,6 +166,18 @@ fn same_seed_same_bytes_at_any_thread_count_and_sharding() {
         reference,
         "thread count changed the output"
     );
+    // The work counts explain a run's time; they too are fixed by the seed, and every pair-sample of
+    // a moving pair is settled exactly one way.
+    assert_eq!(work_one, work_two, "thread count changed the work");
+    for t in ["sphere", "obb", "hull", "decomp-hull"] {
+        let w = &work_one[t];
+        let settled: u64 = ["cheap", "bounds", "windows", "exact"]
+            .iter()
+            .map(|k| w[k].as_u64().unwrap())
+            .sum();
+        assert!(w["pair_samples"].as_u64().unwrap() > 0, "{t}: {w}");
+        assert_eq!(settled, w["pair_samples"].as_u64().unwrap(), "{t}: {w}");
+    }
 
     // Three shards, merged, equal the single run byte for byte.
     let sharded = fresh("shards");

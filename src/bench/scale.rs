@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::preprocess::{PreprocessOptions, preprocess};
 use crate::progress::Progress;
 use crate::robot::PackagePaths;
-use crate::sample::{MeshSummary, Reason, SAMPLE, TypeSummary};
+use crate::sample::{MeshSummary, Reason, SAMPLE, TypeSummary, Work};
 use crate::shapes::{ShapeParams, ShapeType};
 use crate::urdd::Urdd;
 use serde::Serialize;
@@ -68,6 +68,9 @@ pub struct WorkCounts {
     pub checked_piece_pairs: usize,
     /// Pairs the targeted search examined, over every type.
     pub searched_pairs: usize,
+    /// What the sampling loop did, summed over the six types: pair-samples bounded, and how many
+    /// needed a GJK run stopped early or an exact query.
+    pub sampling: Work,
 }
 
 /// One robot's row.
@@ -237,7 +240,13 @@ fn work_counts(urdd: &Urdd) -> Result<WorkCounts> {
     let mesh: Option<MeshSummary> = urdd.stage_summary(SAMPLE, Some("mesh"))?;
     let mesh = mesh.unwrap_or_default();
     let reason = |r| mesh.reasons.get(&r).copied().unwrap_or(0);
+    let work: Option<BTreeMap<ShapeType, Work>> = urdd.stage_summary(SAMPLE, Some("work"))?;
+    let mut sampling = Work::default();
+    work.unwrap_or_default()
+        .values()
+        .for_each(|w| sampling.add(w));
     Ok(WorkCounts {
+        sampling,
         checked_link_pairs: reason(Reason::Checked),
         never_link_pairs: reason(Reason::Never),
         certified: mesh.certified,
@@ -316,8 +325,8 @@ pub fn render_scale(r: &ScaleReport) -> String {
         if o.runs == 1 { "" } else { "s" }
     );
     s.push_str(
-        "| robot | links | DOFs | pieces | link pairs | piece pairs | time (s) | peak MiB | checked link pairs | never (certified) | certificate boxes | checked piece pairs | searched pairs |\n\
-         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| robot | links | DOFs | pieces | link pairs | piece pairs | time (s) | peak MiB | pair-samples (M) | windows (M) | exact queries (M) | checked link pairs | never (certified) | certificate boxes | checked piece pairs | searched pairs |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for row in &r.rows {
         let w = &row.work;
@@ -326,7 +335,7 @@ pub fn render_scale(r: &ScaleReport) -> String {
         });
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {:.2} | {} | {} | {} ({}) | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {:.2} | {} | {:.1} | {:.2} | {:.2} | {} | {} ({}) | {} | {} | {} |",
             row.robot,
             row.links,
             row.dofs,
@@ -335,6 +344,9 @@ pub fn render_scale(r: &ScaleReport) -> String {
             row.piece_pairs,
             row.seconds,
             peak,
+            w.sampling.pair_samples as f64 / 1e6,
+            w.sampling.windows as f64 / 1e6,
+            w.sampling.exact as f64 / 1e6,
             w.checked_link_pairs,
             w.never_link_pairs,
             w.certified,
@@ -345,7 +357,10 @@ pub fn render_scale(r: &ScaleReport) -> String {
     }
     s.push_str(
         "\n*links*: links with geometry; *pieces*: convex decomposition pieces (decomp-hull); *piece \
-         pairs*: pairs of pieces on different links; *checked*, *never*: the verdicts on the exact \
+         pairs*: pairs of pieces on different links; *pair-samples*: samples times moving pairs, over the \
+         six types, each bounded by its spheres; *windows*, *exact queries*: the pair-samples those \
+         bounds (and the tighter ones after them) could not settle, decided by a GJK run stopped once \
+         the distance lay inside the extremes, or by an exact distance; *checked*, *never*: the verdicts on the exact \
          geometry (link pairs) and on the pieces; *certificate boxes*: joint-space sub-boxes the \
          `never` certificates evaluated; *searched pairs*: pairs the targeted collision search \
          examined, over the six types.\n",

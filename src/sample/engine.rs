@@ -5,6 +5,7 @@ use super::block::{BLOCK, Block};
 use super::sets::PairSet;
 use super::stats::PairStats;
 use super::table::{self, Table};
+use super::work::{Settled, SharedWork, Work};
 use crate::collision::{
     Hint, Tether, Window, axis_bounds, box_bounds, signed_distance_hinted, sphere_bounds, window,
 };
@@ -30,6 +31,8 @@ pub struct Engine {
     pub sets: Vec<PairSet>,
     /// Per set and pair, the distance table of a pair that depends on one DOF only.
     pub tables: Vec<Vec<Option<Table>>>,
+    /// Per set, what the sampling loop has done so far.
+    work: Vec<SharedWork>,
 }
 
 /// The parameters every chunk of a run shares.
@@ -116,9 +119,15 @@ impl Engine {
         Ok(Engine {
             robot,
             kinematics,
+            work: sets.iter().map(|_| SharedWork::default()).collect(),
             sets,
             tables,
         })
+    }
+
+    /// Per set, what the sampling loop has done so far (pilot, scout and chunks).
+    pub fn work(&self) -> Vec<Work> {
+        self.work.iter().map(SharedWork::get).collect()
     }
 
     /// The configuration of sample `k` under `seed`.
@@ -324,14 +333,20 @@ impl Engine {
             .saturating_sub(block.first)
             .min(block.len as u64) as usize;
         let mut collisions = 0;
+        let mut work = Work {
+            pair_samples: block.len as u64,
+            ..Work::default()
+        };
         for (kk, &(lower, upper)) in bounds.iter().enumerate() {
             if kk >= exact_mean && (lower > 0.0 || upper < 0.0) && lo < lower && upper < hi {
                 collisions += u64::from(upper < 0.0);
+                work.cheap += 1;
             } else {
-                self.observe(set, s, p, block, kk, (lower, upper), run, hint, st);
+                work.count(self.observe(set, s, p, block, kk, (lower, upper), run, hint, st));
             }
         }
         st.collisions += collisions;
+        self.work[s].add(&work);
     }
 
     /// Bounds `(lower, upper)` on the signed distance of moving pair `p` of set `s` at every sample of
@@ -370,7 +385,7 @@ impl Engine {
     /// Adds sample `kk` of `block` of moving pair `p` of set `s` to `st`, with an exact query only
     /// where the bounds cannot decide: the sample enters the mean (`k < run.mean_budget`), the
     /// collision verdict is open, or it could move the minimum or maximum by more than `run.tol`
-    /// beyond both `st` and `run.known`.
+    /// beyond both `st` and `run.known`. Returns what settled it.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn observe(
@@ -384,7 +399,7 @@ impl Engine {
         run: &PairRun,
         hint: &mut Hint,
         st: &mut PairStats,
-    ) {
+    ) -> Settled {
         let PairRun {
             mean_budget,
             tol,
@@ -419,14 +434,14 @@ impl Engine {
             decided
         };
         if settle(lower, upper, st) {
-            return;
+            return Settled::Cheap;
         }
         let n = block.len;
         let poses = &block.links[kk * self.robot.links.len()..];
         if let (Some(t), false) = (tether, exact_mean) {
             upper = upper.min(t.upper(&poses[set.links[i]], &poses[set.links[j]]));
             if settle(lower, upper, st) {
-                return;
+                return Settled::Bounds;
             }
         }
         // Whether both shapes are boxes: their box bounds are then their extreme points along the
@@ -442,7 +457,7 @@ impl Engine {
                     lower = lower.max(lo);
                     upper = upper.min(hi);
                     if settle(lower, upper, st) {
-                        return;
+                        return Settled::Bounds;
                     }
                 }
             }
@@ -460,7 +475,7 @@ impl Engine {
             let (near, last_axis) = hint.bounds(&pa, b, &pb);
             upper = upper.min(xa.distance(xb)).min(near);
             if settle(lower, upper, st) {
-                return;
+                return Settled::Bounds;
             }
             // The shapes' extreme points along an axis tighten both bounds: along the last query's
             // direction turned with the first shape (exact again where the pair turns about that
@@ -476,7 +491,7 @@ impl Engine {
                 lower = lower.max(lo);
                 upper = upper.min(hi);
                 if settle(lower, upper, st) {
-                    return;
+                    return Settled::Bounds;
                 }
             }
             // Still open: a GJK that stops once it knows the distance lies between the extremes (and
@@ -494,7 +509,7 @@ impl Engine {
             if let Window::Inside { overlap } = window(a, &pa, b, &pb, lo, hi, (lower, upper), hint)
             {
                 st.collisions += u64::from(overlap);
-                return;
+                return Settled::Window;
             }
         }
         let d = signed_distance_hinted(a, &pa, b, &pb, hint);
@@ -503,6 +518,7 @@ impl Engine {
             st.observe_mean(d, control);
         }
         st.collisions += u64::from(d <= 0.0);
+        Settled::Exact
     }
 }
 

@@ -16,6 +16,7 @@ mod search;
 mod sets;
 mod stats;
 mod table;
+mod work;
 
 pub use certify::{Certificate, CertifyParams, PairGeometry, Status, certify};
 pub use engine::{CHUNK, Engine};
@@ -25,6 +26,7 @@ pub use records::{PairRecord, SampleFile, TypeSummary, Witness};
 pub use search::{SearchOutcome, SearchParams, search_pair};
 pub use sets::{PairSet, PlacedPair};
 pub use stats::PairStats;
+pub use work::Work;
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;
@@ -132,6 +134,9 @@ pub struct SampleReport {
     /// The link-level verdicts on the exact geometry (`mesh`): reasons, certified and sampled `never`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mesh: Option<MeshSummary>,
+    /// Per type, what the sampling loop did (summed over the shards after a merge).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub work: BTreeMap<ShapeType, Work>,
     /// Seconds spent sampling (not counting loading and writing).
     pub seconds: f64,
     /// Why the stage reran although its key was unchanged (an output file changed or went missing).
@@ -176,6 +181,9 @@ struct ShardFile {
     /// Per type, per pair: the exact accumulators of this shard's chunks.
     #[serde(default)]
     stats: BTreeMap<ShapeType, Vec<PairStats>>,
+    /// Per type, what this shard's sampling loop did (the merge adds them up).
+    #[serde(default)]
+    work: BTreeMap<ShapeType, Work>,
 }
 
 impl ShardFile {
@@ -191,6 +199,7 @@ impl ShardFile {
             shard: Some(shard),
             key: stage_key(urdd, opts)?,
             stats: BTreeMap::new(),
+            work: BTreeMap::new(),
         })
     }
 
@@ -321,12 +330,13 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
     };
     let key = stage_key(&urdd, opts)?;
     let notes: Vec<String> = urdd.rerun_note(SAMPLE, &key).into_iter().collect();
-    let report = |up_to_date, shard_file, types, seconds| SampleReport {
+    let report = |up_to_date, shard_file, types, work, seconds| SampleReport {
         urdd: opts.urdd.clone(),
         up_to_date,
         shard_file,
         samples: opts.samples,
         types,
+        work,
         seconds,
         mesh: None,
         notes: Vec::new(),
@@ -334,9 +344,11 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
     if opts.shard.is_none() && !opts.force && urdd.is_up_to_date(SAMPLE, &key) {
         let types = urdd.stage_summary(SAMPLE, Some("types"))?;
         let mesh = urdd.stage_summary(SAMPLE, Some("mesh"))?;
+        // A stage written before the work was counted has none.
+        let work: Option<_> = urdd.stage_summary(SAMPLE, Some("work"))?;
         return Ok(SampleReport {
             mesh,
-            ..report(true, None, types, 0.0)
+            ..report(true, None, types, work.unwrap_or_default(), 0.0)
         });
     }
     let engine = Engine::load(&urdd, &opts.types)?;
@@ -357,11 +369,18 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
     progress.start("sampling", chunks.len() as u64 * CHUNK.min(opts.samples));
     let acc = pool.install(|| finalize::accumulate(&engine, opts, &chunks, progress));
     progress.finish();
+    let work: BTreeMap<ShapeType, Work> = engine
+        .sets
+        .iter()
+        .map(|s| s.shape_type)
+        .zip(engine.work())
+        .collect();
 
     if let Some(shard) = opts.shard {
         let name = Shard::file(shard.count, shard.index);
         let file = ShardFile {
             stats: engine.sets.iter().map(|s| s.shape_type).zip(acc).collect(),
+            work: work.clone(),
             ..ShardFile::header(&urdd, opts, shard)?
         };
         // Compact: a scheduler ships it between machines.
@@ -372,13 +391,14 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
             false,
             Some(format!("{SHARDS}/{name}")),
             BTreeMap::new(),
+            work,
             started.elapsed().as_secs_f64(),
         ));
     }
     let files = pool.install(|| finalize::finalize(&engine, opts, acc));
     let mesh = pool.install(|| mesh::mesh_verdicts(&urdd, &engine, opts, &files, progress))?;
     let seconds = started.elapsed().as_secs_f64();
-    write_stage(&mut urdd, opts, key, &files, &mesh)?;
+    write_stage(&mut urdd, opts, key, &files, &mesh, &work)?;
     Ok(SampleReport {
         notes,
         mesh: Some(mesh.summary.clone()),
@@ -389,6 +409,7 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
                 .iter()
                 .map(|f| (f.shape_type, f.summary.clone()))
                 .collect(),
+            work,
             seconds,
         )
     })
@@ -436,6 +457,7 @@ pub fn merge_shards(
         .map(|s| vec![PairStats::default(); s.pairs.len()])
         .collect();
     let expected = ShardFile::header(&urdd, opts, Shard { index: 0, count })?;
+    let mut work: BTreeMap<ShapeType, Work> = BTreeMap::new();
     progress.start("merging shards", u64::from(count));
     for (index, path) in (0..count).zip(&paths) {
         let shard = ShardFile::read(path)?;
@@ -458,15 +480,19 @@ pub fn merge_shards(
                 })?;
             stats.iter_mut().zip(part).for_each(|(s, p)| s.merge(p));
         }
+        for (t, w) in &shard.work {
+            work.entry(*t).or_default().add(w);
+        }
         progress.advance(1);
     }
     progress.finish();
     let started = std::time::Instant::now();
     let files = finalize::finalize(&engine, opts, acc);
     let mesh = mesh::mesh_verdicts(&urdd, &engine, opts, &files, progress)?;
-    write_stage(&mut urdd, opts, key, &files, &mesh)?;
+    write_stage(&mut urdd, opts, key, &files, &mesh, &work)?;
     Ok(SampleReport {
         mesh: Some(mesh.summary.clone()),
+        work,
         urdd: opts.urdd.clone(),
         up_to_date: false,
         shard_file: None,
@@ -495,6 +521,7 @@ fn write_stage(
     key: String,
     files: &[SampleFile],
     mesh: &MeshFile,
+    work: &BTreeMap<ShapeType, Work>,
 ) -> Result<()> {
     let stage = StageDir::create(&opts.urdd.join(SAMPLE))?;
     let mut outputs = Vec::new();
@@ -526,7 +553,7 @@ fn write_stage(
             folder: SAMPLE.into(),
             outputs,
             stamps: Default::default(),
-            summary: serde_json::json!({ "types": summary, "mesh": &mesh.summary }),
+            summary: serde_json::json!({ "types": summary, "mesh": &mesh.summary, "work": work }),
             depends_on: [(PREPROCESS.to_string(), preprocess_key)].into(),
         },
     )
