@@ -9,7 +9,8 @@
 //!   other (one probe point per part, by the generalized winding number, which stays meaningful for
 //!   meshes that are not watertight). The ground truth of `scm bench` and of `never`.
 //!
-//! Geometry only: callers build links from a robot's loaded meshes ([`ExactLink::new`]).
+//! Geometry only: callers build links from a robot's loaded meshes ([`ExactLink::new`]), each mesh
+//! file at each scale indexed once ([`ExactMesh`]) and shared by every element that uses it.
 
 use crate::math::{Pose, Rotation, Vec3};
 use crate::mesh::TriMesh as SoupMesh;
@@ -18,12 +19,14 @@ use crate::shapes::minimal_bounding_sphere;
 use parry3d_f64::bounding_volume::BoundingVolume;
 use parry3d_f64::query;
 use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, Shape, TriMesh};
+use std::sync::Arc;
 
 /// One geometry element of a link.
 struct Part {
-    /// The element's pose in the link frame (the identity for meshes: their vertices are placed).
+    /// The element's pose in the link frame (its URDF origin).
     pose: Pose,
-    shape: Box<dyn Shape>,
+    /// The element in its own frame (shared between links for meshes, see [`ExactMesh`]).
+    shape: Arc<dyn Shape>,
     /// Whether the part is a triangle mesh (a surface, not a solid).
     is_mesh: bool,
     /// A point of the part (link frame), for the containment test.
@@ -31,6 +34,47 @@ struct Part {
     /// Bounding sphere (link frame).
     center: Vec3,
     radius: f64,
+}
+
+/// A mesh element's triangles indexed for the exact tests, in the element's frame (its scale applied,
+/// its origin not). Clones share the triangles and their bounding-volume tree: a robot whose four legs
+/// use the same mesh files holds each of them once.
+#[derive(Clone)]
+pub struct ExactMesh {
+    mesh: Arc<TriMesh>,
+    /// A vertex, for the containment test (element frame).
+    probe: Vec3,
+    /// Bounding sphere (element frame).
+    center: Vec3,
+    radius: f64,
+}
+
+impl std::fmt::Debug for ExactMesh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ExactMesh")
+            .field("triangles", &self.mesh.indices().len())
+            .field("radius", &self.radius)
+            .finish_non_exhaustive()
+    }
+}
+
+impl ExactMesh {
+    /// Indexes `soup` (element frame); `None` for a mesh without vertices, an error (parry's, for the
+    /// caller to place) when parry cannot index its triangles.
+    pub fn new(soup: SoupMesh) -> Result<Option<ExactMesh>, String> {
+        let Some(&probe) = soup.vertices.first() else {
+            return Ok(None);
+        };
+        let sphere = minimal_bounding_sphere(&soup.vertices);
+        let mesh = TriMesh::new(soup.vertices, soup.triangles)
+            .map_err(|e| format!("triangle mesh: {e}"))?;
+        Ok(Some(ExactMesh {
+            mesh: Arc::new(mesh),
+            probe,
+            center: sphere.center,
+            radius: sphere.radius,
+        }))
+    }
 }
 
 /// A link's exact collision geometry, ready for collision tests.
@@ -61,11 +105,12 @@ pub struct ExactError {
 }
 
 impl ExactLink {
-    /// Prepares a link's elements; `mesh_of` gives a mesh element's triangles in the link frame (scale
-    /// and origin applied). `None` for a link without geometry.
+    /// Prepares a link's elements; `mesh_of` gives a mesh element's indexed triangles in the element
+    /// frame (see [`ExactMesh`]; `None` for an empty mesh, which is left out). `None` for a link
+    /// without geometry.
     pub fn new(
         elements: &[GeometryElement],
-        mesh_of: impl Fn(&GeometryElement) -> SoupMesh,
+        mesh_of: impl Fn(&GeometryElement) -> Result<Option<ExactMesh>, String>,
     ) -> Result<Option<ExactLink>, ExactError> {
         let mut parts = Vec::new();
         for g in elements {
@@ -73,7 +118,7 @@ impl ExactLink {
                 line: g.line,
                 message,
             };
-            let primitive = |shape: Box<dyn Shape>, local: Pose, radius: f64| Part {
+            let primitive = |shape: Arc<dyn Shape>, local: Pose, radius: f64| Part {
                 pose: g.origin * local,
                 shape,
                 is_mesh: false,
@@ -86,38 +131,34 @@ impl ExactLink {
                 Pose::from_rotation(Rotation::from_rotation_x(std::f64::consts::FRAC_PI_2));
             let part = match &g.shape {
                 ShapeSource::Box { size } => primitive(
-                    Box::new(Cuboid::new(*size * 0.5)),
+                    Arc::new(Cuboid::new(*size * 0.5)),
                     Pose::IDENTITY,
                     (*size * 0.5).length(),
                 ),
                 ShapeSource::Sphere { radius } => {
-                    primitive(Box::new(Ball::new(*radius)), Pose::IDENTITY, *radius)
+                    primitive(Arc::new(Ball::new(*radius)), Pose::IDENTITY, *radius)
                 }
                 ShapeSource::Cylinder { radius, length } => primitive(
-                    Box::new(Cylinder::new(0.5 * length, *radius)),
+                    Arc::new(Cylinder::new(0.5 * length, *radius)),
                     y_to_z,
                     radius.hypot(0.5 * length),
                 ),
                 ShapeSource::Capsule { radius, length } => primitive(
-                    Box::new(Capsule::new_z(0.5 * length, *radius)),
+                    Arc::new(Capsule::new_z(0.5 * length, *radius)),
                     Pose::IDENTITY,
                     0.5 * length + radius,
                 ),
                 ShapeSource::Mesh { .. } => {
-                    let soup = mesh_of(g);
-                    let Some(&probe) = soup.vertices.first() else {
+                    let Some(mesh) = mesh_of(g).map_err(fail)? else {
                         continue;
                     };
-                    let sphere = minimal_bounding_sphere(&soup.vertices);
-                    let mesh = TriMesh::new(soup.vertices, soup.triangles)
-                        .map_err(|e| fail(format!("triangle mesh: {e}")))?;
                     Part {
-                        pose: Pose::IDENTITY,
-                        shape: Box::new(mesh),
+                        pose: g.origin,
+                        shape: mesh.mesh,
                         is_mesh: true,
-                        probe,
-                        center: sphere.center,
-                        radius: sphere.radius,
+                        probe: g.origin.transform_point(mesh.probe),
+                        center: g.origin.transform_point(mesh.center),
+                        radius: mesh.radius,
                     }
                 }
             };
@@ -208,8 +249,7 @@ impl ExactLink {
         self.parts.iter().any(|a| {
             let world = pa.transform_point(a.probe);
             other.parts.iter().filter(|b| b.is_mesh).any(|b| {
-                let p = pb.inverse_transform_point(world);
-                // Mesh parts are stored placed in the link frame (their pose is the identity).
+                let p = (*pb * b.pose).inverse_transform_point(world);
                 let mesh = b.shape.as_trimesh();
                 mesh.is_some_and(|m| {
                     m.local_aabb().contains_local_point(p) && winding_number(m, p).abs() > 0.5
@@ -287,7 +327,9 @@ mod tests {
             },
             Vec3::ZERO,
         );
-        ExactLink::new(&[e], |_| cube_mesh(half)).unwrap().unwrap()
+        ExactLink::new(&[e], |_| ExactMesh::new(cube_mesh(half)))
+            .unwrap()
+            .unwrap()
     }
 
     fn at(x: f64) -> Pose {
@@ -321,6 +363,48 @@ mod tests {
     }
 
     #[test]
+    fn a_shared_mesh_is_placed_by_each_element_origin() {
+        // One cube (half-size 0.1) held by two links: turned 45 degrees about z at x = 0.5, its
+        // corner reaches x = 0.5 + 0.1 * sqrt(2); at z = 1, unturned.
+        let cube = ExactMesh::new(cube_mesh(0.1)).unwrap().unwrap();
+        let link_at = |origin: Pose| {
+            let e = GeometryElement {
+                origin,
+                shape: ShapeSource::Mesh {
+                    uri: "cube.stl".into(),
+                    path: "cube.stl".into(),
+                    scale: Vec3::ONE,
+                },
+                line: 1,
+            };
+            ExactLink::new(&[e], |_| Ok(Some(cube.clone())))
+                .unwrap()
+                .unwrap()
+        };
+        let turned = Pose::from_translation(Vec3::new(0.5, 0.0, 0.0))
+            * Pose::from_rotation(Rotation::from_rotation_z(std::f64::consts::FRAC_PI_4));
+        let (a, b) = (link_at(turned), link_at(Pose::from_translation(Vec3::Z)));
+        let ball = |p: Vec3| {
+            ExactLink::new(&[element(ShapeSource::Sphere { radius: 0.001 }, p)], |_| {
+                Ok(None)
+            })
+            .unwrap()
+            .unwrap()
+        };
+        let home = Pose::IDENTITY;
+        // Past the unturned cube's face (x = 0.6), inside the turned one's corner: inside, no touch.
+        let inside = ball(Vec3::new(0.63, 0.0, 0.0));
+        assert!(a.overlap(&home, &inside, &home));
+        assert!(!a.touch(&home, &inside, &home));
+        assert!(!b.overlap(&home, &inside, &home));
+        let corner = 0.5 + 0.1 * std::f64::consts::SQRT_2;
+        let d = a.distance(&home, &ball(Vec3::new(0.7, 0.0, 0.0)), &home);
+        assert!((d - (0.7 - corner - 0.001)).abs() < 1e-9, "{d}");
+        assert!(b.overlap(&home, &ball(Vec3::new(0.05, 0.0, 1.05)), &home));
+        assert!(!b.overlap(&home, &ball(Vec3::new(0.0, 0.0, 1.15)), &home));
+    }
+
+    #[test]
     fn primitives_are_exact_not_tessellated() {
         // Two unit spheres 2.001 apart: a circumscribing tessellation would touch, the spheres do not.
         let s = |x| {
@@ -329,7 +413,7 @@ mod tests {
                     ShapeSource::Sphere { radius: 1.0 },
                     Vec3::new(x, 0.0, 0.0),
                 )],
-                |_| SoupMesh::default(),
+                |_| Ok(None),
             )
             .unwrap()
             .unwrap()
@@ -346,13 +430,13 @@ mod tests {
                 },
                 Vec3::ZERO,
             )],
-            |_| SoupMesh::default(),
+            |_| Ok(None),
         )
         .unwrap()
         .unwrap();
         let ball = |p: Vec3| {
             ExactLink::new(&[element(ShapeSource::Sphere { radius: 0.05 }, p)], |_| {
-                SoupMesh::default()
+                Ok(None)
             })
             .unwrap()
             .unwrap()

@@ -15,7 +15,7 @@ mod test_shapes;
 
 pub use box_bound::{BoundingBox, PlacedBox, box_bounds};
 pub use distance_window::{Hint, Last, Tether, Window, window};
-pub use exact::{ExactError, ExactLink, winding_number};
+pub use exact::{ExactError, ExactLink, ExactMesh, winding_number};
 pub use hull_support::HullSupport;
 pub use separated::{closest_on_segments, closest_on_triangle};
 

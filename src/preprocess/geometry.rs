@@ -1,6 +1,7 @@
 //! Assembles each link's triangle geometry in the link frame from its URDF elements, loading every mesh
 //! file once and rejecting empty or degenerate meshes with a message naming the URDF element.
 
+use crate::collision::{ExactLink, ExactMesh};
 use crate::error::{Error, Result};
 use crate::mesh::{MeshFile, TriMesh, load_mesh_file, tessellate};
 use crate::robot::{GeometryElement, Link, Robot, ShapeSource};
@@ -105,18 +106,47 @@ pub fn mesh_notes(robot: &Robot, meshes: &MeshCache) -> Vec<String> {
 }
 
 /// Every link's exact collision geometry (the `mesh` type: meshes as loaded, primitives exact), `None`
-/// for links without geometry. A mesh parry cannot index is bad input naming the element.
+/// for links without geometry. Each mesh file is indexed once per scale and shared by every element
+/// that uses it (b1's twelve leg meshes are four files). A mesh parry cannot index is bad input naming
+/// the element.
 pub fn exact_links(
     robot: &Robot,
     meshes: &MeshCache,
     urdf: &Path,
 ) -> Result<Vec<Option<crate::collision::ExactLink>>> {
+    type Key = (PathBuf, [u64; 3]);
+    let key = |path: &Path, scale: &crate::math::Vec3| -> Key {
+        (path.to_path_buf(), scale.to_array().map(f64::to_bits))
+    };
+    let mut keys: BTreeMap<Key, ()> = BTreeMap::new();
+    for g in robot.links.iter().flat_map(|l| &l.geometry) {
+        if let ShapeSource::Mesh { path, scale, .. } = &g.shape {
+            keys.insert(key(path, scale), ());
+        }
+    }
+    let shared: BTreeMap<Key, std::result::Result<Option<ExactMesh>, String>> = keys
+        .into_par_iter()
+        .map(|((path, bits), ())| {
+            let mut soup = TriMesh::default();
+            if let Some(m) = meshes.get(&path) {
+                let scale = crate::math::Vec3::from_array(bits.map(f64::from_bits));
+                soup.append_transformed(&m.mesh, &crate::math::Pose::IDENTITY, scale);
+            }
+            let mesh = ExactMesh::new(soup);
+            ((path, bits), mesh)
+        })
+        .collect();
     robot
         .links
         .par_iter()
         .map(|link| {
-            crate::collision::ExactLink::new(&link.geometry, |g| element_mesh(g, meshes))
-                .map_err(|e| Error::input(urdf, element_label(link, e.line), e.message))
+            ExactLink::new(&link.geometry, |g| match &g.shape {
+                ShapeSource::Mesh { path, scale, .. } => {
+                    shared.get(&key(path, scale)).cloned().unwrap_or(Ok(None))
+                }
+                _ => Ok(None),
+            })
+            .map_err(|e| Error::input(urdf, element_label(link, e.line), e.message))
         })
         .collect()
 }
