@@ -155,10 +155,10 @@ fn the_scale_table_measures_a_urdf_and_a_urdd() {
     assert!(text.contains("-n 100 --runs 1`"), "{text}");
     let row = text
         .lines()
-        .find(|l| l.starts_with("| synthetic_n3_m2 |"))
+        .find(|l| l.starts_with("| preprocessed | synthetic_n3_m2 |"))
         .unwrap_or_else(|| panic!("{text}"));
     assert!(
-        row.starts_with("| synthetic_n3_m2 | 3 | 2 | 6 | 3 | 12 |"),
+        row.starts_with("| preprocessed | synthetic_n3_m2 | 3 | 2 | 6 | 3 | 12 |"),
         "{row}"
     );
 }

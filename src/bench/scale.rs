@@ -298,6 +298,15 @@ impl Drop for WorkFolder {
     }
 }
 
+/// How a row names its input: the file or folder name without its extension (`ur5e` for
+/// `ur5e/ur5e.urdf`, `n60` for `/tmp/n60.urdd`), which tells apart robots that share a name.
+fn input_name(input: &Path) -> String {
+    input.file_stem().map_or_else(
+        || input.display().to_string(),
+        |s| s.to_string_lossy().into_owned(),
+    )
+}
+
 /// The command that reproduces the table.
 pub fn command(opts: &ScaleOptions) -> String {
     let mut c = String::from("scm bench --scale");
@@ -325,8 +334,8 @@ pub fn render_scale(r: &ScaleReport) -> String {
         if o.runs == 1 { "" } else { "s" }
     );
     s.push_str(
-        "| robot | links | DOFs | pieces | link pairs | piece pairs | time (s) | peak MiB | pair-samples (M) | windows (M) | exact queries (M) | checked link pairs | never (certified) | certificate boxes | checked piece pairs | searched pairs |\n\
-         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| input | robot | links | DOFs | pieces | link pairs | piece pairs | time (s) | peak MiB | pair-samples (M) | windows (M) | exact queries (M) | checked link pairs | never (certified) | certificate boxes | checked piece pairs | searched pairs |\n\
+         |---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for row in &r.rows {
         let w = &row.work;
@@ -335,7 +344,8 @@ pub fn render_scale(r: &ScaleReport) -> String {
         });
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {:.2} | {} | {:.1} | {:.2} | {:.2} | {} | {} ({}) | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {:.2} | {} | {:.1} | {:.2} | {:.2} | {} | {} ({}) | {} | {} | {} |",
+            input_name(&row.input),
             row.robot,
             row.links,
             row.dofs,
@@ -356,7 +366,8 @@ pub fn render_scale(r: &ScaleReport) -> String {
         );
     }
     s.push_str(
-        "\n*links*: links with geometry; *pieces*: convex decomposition pieces (decomp-hull); *piece \
+        "\n*input*: the file or folder name given, without its extension; *robot*: the URDF's robot \
+         name; *links*: links with geometry; *pieces*: convex decomposition pieces (decomp-hull); *piece \
          pairs*: pairs of pieces on different links; *pair-samples*: samples times moving pairs, over the \
          six types, each bounded by its spheres; *windows*, *exact queries*: the pair-samples those \
          bounds (and the tighter ones after them) could not settle, decided by a GJK run stopped once \
