@@ -238,20 +238,27 @@ impl Engine {
                     .zip(stats.iter_mut().zip(&mut hints))
                     .enumerate()
                 {
-                    stats
+                    let work = stats
                         .par_iter_mut()
                         .zip(hints.par_iter_mut())
                         .enumerate()
                         .filter(|(p, _)| set.moving[*p])
-                        .for_each(|(p, (st, hint))| {
+                        .map(|(p, (st, hint))| {
                             let pair_run = PairRun {
                                 mean_budget: run.mean_budget[s][p],
                                 tol: run.tol,
                                 known: None,
                                 tether: run.tethers.get(s).and_then(|v| v[p].as_ref()),
                             };
-                            self.observe_block(set, s, p, &block, &pair_run, hint, st);
+                            let mut work = Work::default();
+                            self.observe_block(set, s, p, &block, &pair_run, hint, st, &mut work);
+                            work
+                        })
+                        .reduce(Work::default, |mut a, b| {
+                            a.add(&b);
+                            a
                         });
+                    self.work[s].add(&work);
                 }
                 at += len as u64;
             }
@@ -279,12 +286,14 @@ impl Engine {
             hints.resize(set.pairs.len(), Hint::default());
         }
         let block = &mut scratch.block;
+        // The chunk's work per set, added to the shared counts once at its end.
+        let mut work = vec![Work::default(); self.sets.len()];
         let mut start = first;
         while start < last {
             let len = (last - start).min(BLOCK as u64) as usize;
             block.place(&self.kinematics, &self.sets, &mut rng, start, len);
             let sets = self.sets.iter().zip(acc.iter_mut()).zip(&mut scratch.hints);
-            for (s, ((set, stats), hints)) in sets.enumerate() {
+            for (s, (((set, stats), hints), work)) in sets.zip(&mut work).enumerate() {
                 let known = run.known.get(s);
                 for (p, (st, hint)) in stats.iter_mut().zip(hints.iter_mut()).enumerate() {
                     if set.moving[p] {
@@ -294,15 +303,19 @@ impl Engine {
                             known: known.map(|v| &v[p]),
                             tether: run.tethers.get(s).and_then(|v| v[p].as_ref()),
                         };
-                        self.observe_block(set, s, p, block, &pair_run, hint, st);
+                        self.observe_block(set, s, p, block, &pair_run, hint, st, work);
                     }
                 }
             }
             start += len as u64;
         }
+        for (shared, work) in self.work.iter().zip(&work) {
+            shared.add(work);
+        }
     }
 
-    /// Adds every sample of `block` of moving pair `p` of set `s` to `st`, in sample order.
+    /// Adds every sample of `block` of moving pair `p` of set `s` to `st`, in sample order, and what
+    /// that took to `work`.
     #[allow(clippy::too_many_arguments)]
     fn observe_block(
         &self,
@@ -313,6 +326,7 @@ impl Engine {
         run: &PairRun,
         hint: &mut Hint,
         st: &mut PairStats,
+        work: &mut Work,
     ) {
         // First the cheap bounds of every sample, in one pass of independent loads and arithmetic
         // (the table lookups miss the cache, and here the misses overlap), then the samples in order.
@@ -333,10 +347,7 @@ impl Engine {
             .saturating_sub(block.first)
             .min(block.len as u64) as usize;
         let mut collisions = 0;
-        let mut work = Work {
-            pair_samples: block.len as u64,
-            ..Work::default()
-        };
+        work.pair_samples += block.len as u64;
         for (kk, &(lower, upper)) in bounds.iter().enumerate() {
             if kk >= exact_mean && (lower > 0.0 || upper < 0.0) && lo < lower && upper < hi {
                 collisions += u64::from(upper < 0.0);
@@ -346,7 +357,6 @@ impl Engine {
             }
         }
         st.collisions += collisions;
-        self.work[s].add(&work);
     }
 
     /// Bounds `(lower, upper)` on the signed distance of moving pair `p` of set `s` at every sample of

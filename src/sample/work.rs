@@ -56,12 +56,12 @@ impl Work {
     }
 }
 
-/// [`Work`] shared by the worker threads: each adds a block's counts at once.
+/// [`Work`] shared by the worker threads: each adds a chunk's (or a scout block's) counts at once.
 #[derive(Debug, Default)]
 pub(super) struct SharedWork([AtomicU64; 5]);
 
 impl SharedWork {
-    /// Adds one block's counts.
+    /// Adds a chunk's counts.
     pub(super) fn add(&self, w: &Work) {
         let fields = [w.pair_samples, w.cheap, w.bounds, w.windows, w.exact];
         for (total, n) in self.0.iter().zip(fields) {
