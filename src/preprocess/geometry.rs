@@ -7,7 +7,7 @@ use crate::mesh::{MeshFile, TriMesh, load_mesh_file, tessellate};
 use crate::robot::{GeometryElement, Link, Robot, ShapeSource};
 use crate::shapes::convex_hull;
 use rayon::prelude::*;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// Every mesh file the robot uses, loaded and checked, keyed by resolved path.
@@ -118,15 +118,18 @@ pub fn exact_links(
     let key = |path: &Path, scale: &crate::math::Vec3| -> Key {
         (path.to_path_buf(), scale.to_array().map(f64::to_bits))
     };
-    let mut keys: BTreeMap<Key, ()> = BTreeMap::new();
-    for g in robot.links.iter().flat_map(|l| &l.geometry) {
-        if let ShapeSource::Mesh { path, scale, .. } = &g.shape {
-            keys.insert(key(path, scale), ());
-        }
-    }
+    let keys: BTreeSet<Key> = robot
+        .links
+        .iter()
+        .flat_map(|l| &l.geometry)
+        .filter_map(|g| match &g.shape {
+            ShapeSource::Mesh { path, scale, .. } => Some(key(path, scale)),
+            _ => None,
+        })
+        .collect();
     let shared: BTreeMap<Key, std::result::Result<Option<ExactMesh>, String>> = keys
         .into_par_iter()
-        .map(|((path, bits), ())| {
+        .map(|(path, bits)| {
             let mut soup = TriMesh::default();
             if let Some(m) = meshes.get(&path) {
                 let scale = crate::math::Vec3::from_array(bits.map(f64::from_bits));
