@@ -281,7 +281,11 @@ pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportRep
             Format::Matrices => {
                 for m in &matrices {
                     let file = MatrixFile::new(&robot_name, m);
-                    write(format!("matrices/{}.json", m.shape_type), file.to_json())?;
+                    let json = file.to_json().map_err(|message| Error::Failed {
+                        context: format!("matrices/{}.json", m.shape_type),
+                        message,
+                    })?;
+                    write(format!("matrices/{}.json", m.shape_type), json)?;
                     let yaml = file.to_yaml().map_err(|e| Error::Failed {
                         context: format!("{} matrix YAML", m.shape_type),
                         message: e,
@@ -355,7 +359,7 @@ pub fn export(opts: &ExportOptions, progress: &dyn Progress) -> Result<ExportRep
         link_level: opts.link_type.id().into(),
         link_reasons,
     };
-    stage.write(EXPORT_INDEX, &json_bytes(&report))?;
+    stage.write(EXPORT_INDEX, &json_bytes(EXPORT_INDEX, &report)?)?;
     stage.commit()?;
     progress.advance(1);
     progress.finish();

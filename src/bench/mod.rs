@@ -242,7 +242,7 @@ fn hiding_reasons(checkers: &[(SelfChecker, SelfChecker)], truth: &MeshTruth) ->
 fn write(urdd: &mut Urdd, report: &BenchReport) -> Result<()> {
     let stage = StageDir::create(&urdd.dir().join(BENCH))?;
     stage.write("bench.md", render(report).as_bytes())?;
-    stage.write("bench.json", &json_bytes(report))?;
+    stage.write("bench.json", &json_bytes("bench.json", report)?)?;
     stage.commit()?;
     let parameters = parameters(BENCH, &report.options)?;
     let sample_key = urdd.stage(SAMPLE)?.key.clone();

@@ -6,7 +6,8 @@ use crate::urdd::{GeometryRecord, ShapeRecord};
 
 /// A YAML double-quoted scalar (JSON string syntax is valid YAML).
 fn quoted(s: &str) -> String {
-    serde_json::to_string(s).unwrap_or_default()
+    // A JSON string's text cannot fail to be written.
+    serde_json::Value::from(s).to_string()
 }
 
 /// Formats a number for YAML with enough digits to round-trip a metre value to 1e-9.

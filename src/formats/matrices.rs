@@ -107,7 +107,7 @@ impl MatrixFile {
     }
 
     /// JSON, one line per shape, row and pair.
-    pub fn to_json(&self) -> Vec<u8> {
+    pub fn to_json(&self) -> Result<Vec<u8>, String> {
         let mut o = JsonLines::new();
         o.field("format", &self.format);
         o.field("format_version", &self.format_version);

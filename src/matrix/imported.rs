@@ -73,7 +73,7 @@ impl ImportedLayer {
     pub fn save(&self, urdd: &Urdd) -> Result<()> {
         write_atomic(
             &urdd.dir().join(LAYERS).join(IMPORTED_FILE),
-            &json_bytes(self),
+            &json_bytes(IMPORTED_FILE, self)?,
         )
     }
 

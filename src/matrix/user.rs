@@ -58,7 +58,7 @@ impl UserLayer {
         layer.normalise();
         write_atomic(
             &urdd.dir().join(LAYERS).join(USER_FILE),
-            &json_bytes(&layer),
+            &json_bytes(USER_FILE, &layer)?,
         )
     }
 

@@ -132,7 +132,7 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
         dofs: kinematics.dofs().to_vec(),
         adjacent,
     };
-    put("robot.json".into(), json_bytes(&record))?;
+    put("robot.json".into(), json_bytes("robot.json", &record)?)?;
     let links: Vec<LinkRecord> = built
         .iter()
         .map(|(i, s)| LinkRecord {
@@ -142,7 +142,7 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
             fit: s.fit.clone(),
         })
         .collect();
-    put("links.json".into(), json_bytes(&links))?;
+    put("links.json".into(), json_bytes("links.json", &links)?)?;
     for t in ShapeType::ALL {
         let mut shapes = Vec::new();
         for (link_index, link_shapes) in &built {
@@ -178,14 +178,16 @@ pub fn preprocess(opts: &PreprocessOptions, progress: &dyn Progress) -> Result<P
                 });
             }
         }
-        put(
-            shape_file_name(t),
-            json_bytes(&ShapeFile {
+        let file = shape_file_name(t);
+        let bytes = json_bytes(
+            &file,
+            &ShapeFile {
                 format_version: FORMAT_VERSION,
                 shape_type: t,
                 shapes,
-            }),
+            },
         )?;
+        put(file, bytes)?;
     }
     let counts = PerType::from_fn(|t| built.iter().map(|(_, s)| s.shapes[t].len()).sum::<usize>());
     let mut out = report(&robot, &opts.out, false, &kinematics, counts);

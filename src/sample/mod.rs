@@ -533,7 +533,7 @@ fn write_stage(
         stage.write(&name, &bytes)?;
         outputs.push(name);
     }
-    stage.write(MESH_FILE, &json_bytes(mesh))?;
+    stage.write(MESH_FILE, &json_bytes(MESH_FILE, mesh)?)?;
     outputs.push(MESH_FILE.to_string());
     stage.commit()?;
     let robot = urdd.manifest().robot.clone();

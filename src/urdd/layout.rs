@@ -10,7 +10,6 @@
 //! ```
 
 use super::manifest::{FORMAT_VERSION, sha256_hex};
-use super::write::json_bytes;
 use crate::error::{Error, Result};
 use crate::shapes::ShapeType;
 use serde::Serialize;
@@ -65,7 +64,9 @@ pub fn stage_key(stage: &str, reads: serde_json::Value) -> String {
     material.insert("stage".into(), stage.into());
     material.insert("format_version".into(), FORMAT_VERSION.into());
     material.insert("tool_version".into(), crate::VERSION.into());
-    sha256_hex(&json_bytes(&serde_json::Value::Object(material)))
+    // A JSON value's pretty text (`{:#}`) is the pretty serialisation, and it cannot fail: its keys are
+    // strings.
+    sha256_hex(format!("{:#}\n", serde_json::Value::Object(material)).as_bytes())
 }
 
 /// `value` as JSON: as a value, or as compact bytes with a final newline. A value JSON cannot hold

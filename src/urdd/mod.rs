@@ -231,7 +231,10 @@ impl Urdd {
         self.manifest.format_version = FORMAT_VERSION;
         self.manifest.tool_version = crate::VERSION.to_string();
         self.manifest.stages.insert(name.to_string(), record);
-        write_atomic(&self.dir.join(MANIFEST), &json_bytes(&self.manifest))
+        write_atomic(
+            &self.dir.join(MANIFEST),
+            &json_bytes(MANIFEST, &self.manifest)?,
+        )
     }
 
     /// The summary a stage recorded (`field` of it, or the whole), read as `T`; a hand-broken manifest

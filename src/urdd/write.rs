@@ -32,12 +32,15 @@ pub fn ensure_not_file(path: &Path) -> Result<()> {
     }
 }
 
-/// Serialises `value` as pretty JSON with a final newline.
-pub fn json_bytes<T: serde::Serialize>(value: &T) -> Vec<u8> {
-    // Serialising our own plain data types to JSON cannot fail (no maps with non-string keys).
-    let mut bytes = serde_json::to_vec_pretty(value).unwrap_or_default();
+/// Serialises `value` as pretty JSON with a final newline. A value JSON cannot hold is an error naming
+/// `file` (the file it was for), never empty data.
+pub fn json_bytes<T: serde::Serialize>(file: &str, value: &T) -> Result<Vec<u8>> {
+    let mut bytes = serde_json::to_vec_pretty(value).map_err(|e| Error::Failed {
+        context: file.to_string(),
+        message: format!("cannot be written as JSON: {e}"),
+    })?;
     bytes.push(b'\n');
-    bytes
+    Ok(bytes)
 }
 
 /// A stage's output folder under construction. Files go to a hidden sibling folder; [`StageDir::commit`]
@@ -182,5 +185,29 @@ impl Drop for StageDir {
         if !self.committed {
             let _ = std::fs::remove_dir_all(&self.tmp);
         }
+    }
+}
+
+#[cfg(test)]
+mod json_tests {
+    use super::json_bytes;
+    use std::collections::BTreeMap;
+
+    #[test]
+    fn a_value_json_cannot_hold_names_its_file() {
+        let bad: BTreeMap<(u8, u8), u8> = [((1, 2), 3)].into();
+        let err = json_bytes("manifest.json", &bad).unwrap_err().to_string();
+        assert!(
+            err.starts_with("manifest.json: cannot be written as JSON"),
+            "{err}"
+        );
+        assert_eq!(json_bytes("x.json", &[1]).unwrap(), b"[\n  1\n]\n");
+    }
+
+    #[test]
+    fn the_stage_key_text_is_the_pretty_serialisation() {
+        let v = serde_json::json!({"b": [1, {"c": 2.5}], "a": "x"});
+        let pretty = json_bytes("k", &v).unwrap();
+        assert_eq!(format!("{v:#}\n").into_bytes(), pretty);
     }
 }
