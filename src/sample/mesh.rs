@@ -220,15 +220,25 @@ pub(super) fn mesh_verdicts(
             .certify
             .max_boxes_per_pair
             .min(left / batch.len() as u64);
-        let results: Vec<Certificate> = batch
+        // The costly pairs first, one pair per task, so that no core is left with a long one at the
+        // end: a pair whose hulls collided in more samples more likely needs the exact geometry's
+        // second search. Each certificate depends only on its pair and the batch's budget, so the
+        // order changes no result.
+        let mut order = batch.to_vec();
+        order.sort_by_key(|&i| {
+            std::cmp::Reverse(hull_collisions.get(&pairs[i]).copied().unwrap_or(0))
+        });
+        let mut results: Vec<(usize, Certificate)> = order
             .par_iter()
+            .with_max_len(1)
             .map(|&i| {
                 let c = ctx.certificate(pairs[i], budget);
                 progress.advance(1);
-                c
+                (i, c)
             })
             .collect();
-        for (&i, c) in batch.iter().zip(results) {
+        results.sort_by_key(|&(i, _)| i);
+        for (i, c) in results {
             spent += c.boxes;
             let r = &mut records[i];
             match c.status {
