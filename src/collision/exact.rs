@@ -12,6 +12,7 @@
 //! Geometry only: callers build links from a robot's loaded meshes ([`ExactLink::new`]), each mesh
 //! file at each scale indexed once ([`ExactMesh`]) and shared by every element that uses it.
 
+use super::mesh_distance::mesh_distance;
 use crate::math::{Pose, Rotation, Vec3};
 use crate::mesh::TriMesh as SoupMesh;
 use crate::robot::{GeometryElement, ShapeSource};
@@ -234,9 +235,14 @@ impl ExactLink {
                     continue;
                 }
                 let (qa, qb) = (*pa * a.pose, *pb * b.pose);
-                // An unsupported pairing could be touching: 0 is the safe bound.
-                let d = query::distance(&qa, a.shape.as_ref(), &qb, b.shape.as_ref())
-                    .map_or(0.0, |r| r.distance);
+                let meshes = (a.shape.as_trimesh(), b.shape.as_trimesh());
+                let d = if let (Some(ma), Some(mb)) = meshes {
+                    mesh_distance(ma, &qa, mb, &qb)
+                } else {
+                    // An unsupported pairing could be touching: 0 is the safe bound.
+                    query::distance(&qa, a.shape.as_ref(), &qb, b.shape.as_ref())
+                        .map_or(0.0, |r| r.distance)
+                };
                 best = best.min(d.max(0.0));
             }
         }

@@ -9,6 +9,7 @@ mod distance_window;
 mod epa;
 mod exact;
 mod hull_support;
+mod mesh_distance;
 mod separated;
 #[cfg(test)]
 mod test_shapes;
