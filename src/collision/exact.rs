@@ -214,13 +214,20 @@ impl ExactLink {
     /// Whether the links overlap as solid bodies: they [`touch`](ExactLink::touch), or some part of
     /// one lies wholly inside a mesh of the other.
     pub fn overlap(&self, pa: &Pose, other: &ExactLink, pb: &Pose) -> bool {
-        self.touch(pa, other, pb) || self.inside(pa, other, pb) || other.inside(pb, self, pa)
+        self.touch(pa, other, pb) || self.encloses(pa, other, pb)
+    }
+
+    /// Whether some part of one link lies wholly inside a mesh of the other, given that they do not
+    /// [`touch`](ExactLink::touch): what [`overlap`](ExactLink::overlap) adds to it, for a caller that
+    /// has tested touch already.
+    pub fn encloses(&self, pa: &Pose, other: &ExactLink, pb: &Pose) -> bool {
+        self.inside(pa, other, pb) || other.inside(pb, self, pa)
     }
 
     /// A lower bound on the distance between the links (0 where they overlap): the least distance between
     /// their parts (parry's, exact for primitives, between triangles for meshes).
     pub fn distance(&self, pa: &Pose, other: &ExactLink, pb: &Pose) -> f64 {
-        if self.inside(pa, other, pb) || other.inside(pb, self, pa) {
+        if self.encloses(pa, other, pb) {
             return 0.0;
         }
         let mut best = f64::INFINITY;

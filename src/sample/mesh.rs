@@ -324,7 +324,7 @@ impl Context<'_> {
         let (la, lb) = self.links(a, b);
         if la.touch(&pa, lb, &pb) {
             Contact::Touch
-        } else if la.overlap(&pa, lb, &pb) {
+        } else if la.encloses(&pa, lb, &pb) {
             Contact::Inside
         } else {
             Contact::Apart
