@@ -77,8 +77,9 @@ impl Table {
         let (mut base, mut near, mut far, mut stride) = (0, [0.0; R], [0.0; R], [0; R]);
         for (r, axis) in self.axes.iter().enumerate().take(R) {
             let x = q[axis.dof];
-            let g =
-                (((x - axis.lower) * axis.inv_step).floor().max(0.0) as usize).min(axis.points - 2);
+            // The cell below `x`: truncation is the floor for the values it keeps (at least 0; a
+            // float-to-int `as` saturates), without a call to libm's `floor` on every lookup.
+            let g = (((x - axis.lower) * axis.inv_step).max(0.0) as usize).min(axis.points - 2);
             let x0 = axis.lower + g as f64 * axis.step;
             near[r] = axis.lipschitz * (x - x0).abs();
             far[r] = axis.lipschitz * (x0 + axis.step - x).abs();
