@@ -217,9 +217,9 @@ impl ExactLink {
         self.touch(pa, other, pb) || self.encloses(pa, other, pb)
     }
 
-    /// Whether some part of one link lies wholly inside a mesh of the other, given that they do not
-    /// [`touch`](ExactLink::touch): what [`overlap`](ExactLink::overlap) adds to it, for a caller that
-    /// has tested touch already.
+    /// Whether some part of one link lies wholly inside a mesh of the other, exact where they do not
+    /// [`touch`](ExactLink::touch) (each part's probe point decides): what
+    /// [`overlap`](ExactLink::overlap) adds to touch, for a caller that has tested touch already.
     pub fn encloses(&self, pa: &Pose, other: &ExactLink, pb: &Pose) -> bool {
         self.inside(pa, other, pb) || other.inside(pb, self, pa)
     }

@@ -37,13 +37,14 @@ pub(super) fn mesh_distance(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose) -> f
         _ => f64::INFINITY,
     };
     let best = Cell::new(seed);
-    // A pair of nodes is kept while it could hold a closer triangle pair than the best (with a
-    // margin far below the triangle queries' own tolerance, against the rounding of the boxes).
-    let open = |n1: &BvhNode, n2: &BvhNode| turn.gap(&n1.aabb(), &n2.aabb()) - 1e-12 < best.get();
+    // Boxes are kept while they could hold a closer triangle pair than the best (with a margin far
+    // below the triangle queries' own tolerance, against the rounding of the boxes).
+    let near = |x: &Aabb, y: &Aabb| turn.gap(x, y) - 1e-12 < best.get();
+    let open = |n1: &BvhNode, n2: &BvhNode| near(&n1.aabb(), &n2.aabb());
     for (i, j) in a.bvh().leaf_pairs(b.bvh(), open) {
         let (ta, tb) = (a.triangle(i), b.triangle(j));
         // A pair pushed before the best improved is judged again before its query.
-        if turn.gap(&ta.local_aabb(), &tb.local_aabb()) - 1e-12 >= best.get() {
+        if !near(&ta.local_aabb(), &tb.local_aabb()) {
             continue;
         }
         // A pairing parry does not support could be touching: 0 is the safe bound.
