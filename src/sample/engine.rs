@@ -383,12 +383,7 @@ impl Engine {
             *out = sphere_bounds(a, oa[kk], ia[kk], b, ob[kk], ib[kk]);
         }
         if let Some(t) = &self.tables[s][p] {
-            let dofs = self.kinematics.dofs().len();
-            for (kk, (lower, upper)) in out.iter_mut().enumerate() {
-                let (lo, hi) = t.bounds(&block.q[kk * dofs..(kk + 1) * dofs]);
-                *lower = lower.max(lo);
-                *upper = upper.min(hi);
-            }
+            t.tighten(&block.q, self.kinematics.dofs().len(), out);
         }
     }
 

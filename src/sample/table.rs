@@ -61,47 +61,62 @@ impl Table {
 
     /// Lower and upper bounds of the signed distance at configuration `q` (all DOFs; the table reads
     /// its own), from the grid values at the corners of the cell around it.
-    #[inline]
     pub fn bounds(&self, q: &[f64]) -> (f64, f64) {
+        let mut out = [(f64::NEG_INFINITY, f64::INFINITY)];
+        self.tighten(q, q.len(), &mut out);
+        out[0]
+    }
+
+    /// [`Table::bounds`] for a block of samples: tightens `out`'s lower and upper bounds at every
+    /// sample, `q` holding one row of `dofs` values per element of `out`.
+    #[inline]
+    pub fn tighten(&self, q: &[f64], dofs: usize, out: &mut [(f64, f64)]) {
         match self.axes.len() {
-            1 => self.bounds_in::<1>(q),
-            _ => self.bounds_in::<2>(q),
+            1 => self.tighten_in::<1>(q, dofs, out),
+            _ => self.tighten_in::<2>(q, dofs, out),
         }
     }
 
     #[inline]
-    fn bounds_in<const R: usize>(&self, q: &[f64]) -> (f64, f64) {
+    fn tighten_in<const R: usize>(&self, q: &[f64], dofs: usize, out: &mut [(f64, f64)]) {
         debug_assert_eq!(self.axes.len(), R);
-        // Per axis: the Lipschitz slack to the cell's lower and upper grid value. The cell found by
-        // rounding may be off by one at a boundary; the bounds hold from any grid point.
-        let (mut base, mut near, mut far, mut stride) = (0, [0.0; R], [0.0; R], [0; R]);
-        for (r, axis) in self.axes.iter().enumerate().take(R) {
-            let x = q[axis.dof];
-            // The cell below `x`: truncation is the floor for the values it keeps (at least 0; a
-            // float-to-int `as` saturates), without a call to libm's `floor` on every lookup.
-            let g = (((x - axis.lower) * axis.inv_step).max(0.0) as usize).min(axis.points - 2);
-            let x0 = axis.lower + g as f64 * axis.step;
-            near[r] = axis.lipschitz * (x - x0).abs();
-            far[r] = axis.lipschitz * (x0 + axis.step - x).abs();
-            stride[r] = axis.stride;
-            base += g * axis.stride;
-        }
-        let (mut lower, mut upper) = (f64::NEG_INFINITY, f64::INFINITY);
-        for corner in 0..1usize << R {
-            let (mut index, mut slack) = (base, 0.0);
-            for r in 0..R {
-                if corner >> r & 1 == 1 {
-                    index += stride[r];
-                    slack += far[r];
-                } else {
-                    slack += near[r];
-                }
+        // The axes held in locals for the whole block, and the rows checked once.
+        let axes: [Axis; R] = std::array::from_fn(|r| self.axes[r]);
+        let (values, rounding) = (&self.values[..], self.rounding);
+        for (row, (lower, upper)) in q.chunks_exact(dofs).zip(out.iter_mut()) {
+            // Per axis: the Lipschitz slack to the cell's lower and upper grid value. The cell found
+            // by rounding may be off by one at a boundary; the bounds hold from any grid point.
+            let (mut base, mut near, mut far) = (0, [0.0; R], [0.0; R]);
+            for (r, axis) in axes.iter().enumerate() {
+                let x = row[axis.dof];
+                // The cell below `x`: truncation is the floor for the values it keeps (at least 0;
+                // a float-to-int `as` saturates; through i64, one instruction), without a call to
+                // libm's `floor` on every lookup.
+                let g = (((x - axis.lower) * axis.inv_step).max(0.0) as i64 as usize)
+                    .min(axis.points - 2);
+                let x0 = axis.lower + g as f64 * axis.step;
+                near[r] = axis.lipschitz * (x - x0).abs();
+                far[r] = axis.lipschitz * (x0 + axis.step - x).abs();
+                base += g * axis.stride;
             }
-            let v = f64::from(self.values[index]);
-            lower = lower.max(v - slack);
-            upper = upper.min(v + slack);
+            let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+            for corner in 0..1usize << R {
+                let (mut index, mut slack) = (base, 0.0);
+                for (r, axis) in axes.iter().enumerate() {
+                    if corner >> r & 1 == 1 {
+                        index += axis.stride;
+                        slack += far[r];
+                    } else {
+                        slack += near[r];
+                    }
+                }
+                let v = f64::from(values[index]);
+                lo = lo.max(v - slack);
+                hi = hi.min(v + slack);
+            }
+            *lower = lower.max(lo - rounding);
+            *upper = upper.min(hi + rounding);
         }
-        (lower - self.rounding, upper + self.rounding)
     }
 }
 
