@@ -137,17 +137,11 @@ impl CollisionShape {
     }
 
     /// The shape's farthest point along `dir` (world frame), posed at `pose`, and its anchor number
-    /// (see [`CollisionShape::anchor`]; a hull's search starts from its table of climb starts).
+    /// (see [`CollisionShape::anchor`]): a hull's climb starts from its vertex numbered `from`, best
+    /// the last support found for a nearby direction, a step or two from this one.
     #[inline]
-    pub fn support(&self, pose: &Pose, dir: Vec3) -> (Vec3, u32) {
-        let local = pose.rotation.inverse() * dir;
-        let (p, id) = match &self.kind {
-            Kind::Hull(h) => {
-                let id = h.support_index(local);
-                (h.vertices()[id as usize], id)
-            }
-            _ => self.local_support_from(local, 0),
-        };
+    pub fn support_from(&self, pose: &Pose, dir: Vec3, from: u32) -> (Vec3, u32) {
+        let (p, id) = self.local_support_from(pose.rotation.inverse() * dir, from);
         (pose.transform_point(p), id)
     }
 
@@ -225,8 +219,9 @@ enum Kind {
 /// the farthest of `b` along `-u`, the lower bound is their gap along `u` (a separating-axis test: if
 /// negative, translating `b` by it along `u` separates the shapes, so the penetration depth is at most
 /// that), and the upper bound is `|pa - pb|` (the distance between two points of the shapes, and
-/// non-negative, so above any penetration too). `anchors` receives the anchor numbers of `pa` and `pb`
-/// (see [`CollisionShape::anchor`]).
+/// non-negative, so above any penetration too). `anchors` holds where the two searches start (the
+/// pair's last support points: its next axis is seldom far from its last) and receives the anchor
+/// numbers of `pa` and `pb` (see [`CollisionShape::anchor`]).
 #[inline]
 pub fn axis_bounds(
     a: &CollisionShape,
@@ -236,8 +231,8 @@ pub fn axis_bounds(
     u: Vec3,
     anchors: &mut [u32; 2],
 ) -> (f64, f64) {
-    let (xa, ia) = a.support(pa, u);
-    let (xb, ib) = b.support(pb, -u);
+    let (xa, ia) = a.support_from(pa, u, anchors[0]);
+    let (xb, ib) = b.support_from(pb, -u, anchors[1]);
     *anchors = [ia, ib];
     ((xb - xa).dot(u), xa.distance(xb))
 }
