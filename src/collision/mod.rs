@@ -159,22 +159,30 @@ impl CollisionShape {
     /// `origin` along the unit vector `axis`: how fast its points move, per radian, when it turns about
     /// that line. The distance from a line is convex, so a hull's or box's largest is at a vertex.
     pub fn reach(&self, link: &Pose, origin: Vec3, axis: Vec3) -> f64 {
+        // The line taken into the shape's own frame, so that a vertex costs a few products and no
+        // rotation, and one square root for the largest.
         let pose = self.pose(link);
+        let (o, u) = (
+            pose.inverse_transform_point(origin),
+            pose.rotation.inverse() * axis,
+        );
         let from_line = |p: Vec3| {
-            let v = pose.transform_point(p) - origin;
-            (v - axis * v.dot(axis)).length()
+            let v = p - o;
+            (v - u * v.dot(u)).length_squared()
         };
         match &self.kind {
-            Kind::Ball(b) => from_line(Vec3::ZERO) + b.radius,
+            Kind::Ball(b) => from_line(Vec3::ZERO).sqrt() + b.radius,
             Kind::Box(c) => separated::box_corners(c.half_extents)
                 .into_iter()
                 .map(from_line)
-                .fold(0.0, f64::max),
+                .fold(0.0, f64::max)
+                .sqrt(),
             Kind::Hull(h) => h
                 .vertices()
                 .iter()
                 .map(|&v| from_line(v))
-                .fold(0.0, f64::max),
+                .fold(0.0, f64::max)
+                .sqrt(),
         }
     }
 
