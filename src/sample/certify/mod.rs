@@ -6,7 +6,9 @@
 //! `t`, every point of the hull below it moves along an arc of chord `2 r sin(t / 2)`, `r` its distance
 //! from the joint's axis; the joints above `j` have moved axis and point together and the joints below
 //! still hold their centre values, so `r` is at most the hull's reach about `j`'s axis *at `c`*
-//! (computed exactly, from the hull's vertices). A prismatic joint moves points by the slide itself.
+//! (computed exactly, from the hull's vertices; it depends only on the joints below `j`, so a child box
+//! keeps its parent's unless it was split along one of those). A prismatic joint moves points by the
+//! slide itself.
 //! Summing over both chains, no point of either hull moves farther than `D = sum_j disp_j`, so the
 //! hulls' distance anywhere in the sub-box is at least `d(c) - D`. A sub-box with `d(c) - D` above a
 //! small margin (the distance solver's tolerance) is cleared; otherwise it is split in two along the
@@ -120,6 +122,8 @@ struct SubBox {
     lower: f64,
     /// Each path DOF's share of the bound at the centre.
     weights: Vec<f64>,
+    /// The hull's reach about each path joint at the centre (see [`Evaluation::reaches`]).
+    reaches: Vec<f64>,
 }
 
 impl PartialEq for SubBox {
@@ -153,6 +157,16 @@ struct Evaluation {
     distance: f64,
     lower: f64,
     weights: Vec<f64>,
+    /// The hull's reach about each joint of side A's chain then side B's (0 for a prismatic joint).
+    reaches: Vec<f64>,
+}
+
+/// What a box's children take from it: its reaches, and the path DOF (index) it was split along.
+/// A joint's reach depends only on the joints below it on its side, so it holds for a child unless
+/// one of those is driven by the split DOF.
+struct Inherited {
+    reaches: Vec<f64>,
+    split: usize,
 }
 
 /// Scratch for evaluations.
@@ -170,7 +184,7 @@ struct Evaluator<'a> {
 }
 
 impl Evaluator<'_> {
-    fn evaluate(&mut self, center: &[f64], half: &[f64]) -> Evaluation {
+    fn evaluate(&mut self, center: &[f64], half: &[f64], from: Option<&Inherited>) -> Evaluation {
         for (&d, &c) in self.dofs.iter().zip(center) {
             self.q[d] = c;
         }
@@ -194,10 +208,24 @@ impl Evaluator<'_> {
         // and whole (for any sets: the exact geometry's distance).
         let mut weights = vec![0.0; self.dofs.len()];
         let mut whole = vec![0.0; self.dofs.len()];
+        let mut reaches = Vec::with_capacity(self.side_a.len() + self.side_b.len());
         for (joints, hull, pose) in [(&self.side_a, p.hull_a, &pa), (&self.side_b, p.hull_b, &pb)] {
+            // The joints of this side from `kept_from` down keep the parent's reach: the lowest joint
+            // the split DOF drives and those below it (all of them, if it drives none here).
+            let offset = reaches.len();
+            let kept_from = from.map(|f| {
+                let split = self.dofs[f.split];
+                (f, joints.iter().rposition(|j| j.dof == split).unwrap_or(0))
+            });
             // How far the joints above have turned the axes below, at most.
             let mut spread = 0.0;
-            for j in joints.iter() {
+            for (i, j) in joints.iter().enumerate() {
+                let reach = match kept_from {
+                    _ if j.prismatic => 0.0,
+                    Some((f, m)) if i >= m => f.reaches[offset + i],
+                    _ => hull.reach(pose, j.point, j.axis),
+                };
+                reaches.push(reach);
                 let Some(k) = self.dofs.iter().position(|&d| d == j.dof) else {
                     continue;
                 };
@@ -209,8 +237,7 @@ impl Evaluator<'_> {
                     )
                 } else {
                     (
-                        2.0 * hull.reach(pose, j.point, j.axis)
-                            * (0.5 * travel.min(std::f64::consts::PI)).sin(),
+                        2.0 * reach * (0.5 * travel.min(std::f64::consts::PI)).sin(),
                         normal.map_or(1.0, |n| along(n, j.axis, spread, true)),
                     )
                 };
@@ -238,6 +265,7 @@ impl Evaluator<'_> {
             distance,
             lower,
             weights,
+            reaches,
         }
     }
 }
@@ -300,10 +328,12 @@ pub fn certify(
     };
     let mut open = BinaryHeap::new();
     let mut pending = vec![(center, half, 1.0)];
+    // What the boxes in `pending` take from their parent (none for the whole box).
+    let mut inherited: Option<Inherited> = None;
     loop {
         // Evaluate the new boxes: clear, keep open, or stop at an overlap.
         for (center, half, volume) in pending.drain(..) {
-            let e = eval.evaluate(&center, &half);
+            let e = eval.evaluate(&center, &half, inherited.as_ref());
             out.boxes += 1;
             if e.distance < out.closest {
                 out.closest = e.distance;
@@ -333,6 +363,7 @@ pub fn certify(
                     volume,
                     lower: e.lower,
                     weights: e.weights,
+                    reaches: e.reaches,
                 });
             }
         }
@@ -355,6 +386,10 @@ pub fn certify(
             center[k] += sign * half[k];
             pending.push((center, half, 0.5 * b.volume));
         }
+        inherited = Some(Inherited {
+            reaches: b.reaches,
+            split: k,
+        });
     }
 }
 

@@ -190,7 +190,7 @@ fn the_bound_is_sound() {
                 (c, rng.range(0.0, 0.5) * rng.unit())
             })
             .unzip();
-        let bound = eval.evaluate(&center, &half).lower;
+        let bound = eval.evaluate(&center, &half, None).lower;
         for _ in 0..50 {
             let mut q = base.clone();
             for (i, &d) in dofs.iter().enumerate() {
@@ -203,10 +203,32 @@ fn the_bound_is_sound() {
                 "distance {d} below the bound {bound} at {q:?}"
             );
         }
+        // A child box may take its parent's reaches about every joint not above one its split DOF
+        // drives (j1 drives j4 too, at the bottom of its side): they are what it would compute.
+        let parent = eval.evaluate(&center, &half, None);
+        for split in 0..dofs.len() {
+            let mut child = center.clone();
+            child[split] += 0.5 * half[split];
+            let from = Inherited {
+                reaches: parent.reaches.clone(),
+                split,
+            };
+            let (kept, fresh) = (
+                eval.evaluate(&child, &half, Some(&from)),
+                eval.evaluate(&child, &half, None),
+            );
+            for (x, y) in kept.reaches.iter().zip(&fresh.reaches) {
+                assert!(
+                    (x - y).abs() < 1e-12,
+                    "split {split}: reach {x} kept, {y} fresh"
+                );
+            }
+            assert!((kept.lower - fresh.lower).abs() < 1e-12);
+        }
         // And it converges: over a tiny box the bound is the centre's distance, so branch and
         // bound ends wherever the hulls are apart.
         let tiny = vec![1e-7; dofs.len()];
-        let e = eval.evaluate(&center, &tiny);
+        let e = eval.evaluate(&center, &tiny, None);
         assert!(e.distance - e.lower < 1e-5, "{} vs {}", e.distance, e.lower);
     }
 }
@@ -237,7 +259,7 @@ fn the_bound_holds_under_tilted_axes() {
         exact_queries: 0,
     };
     let (center, half) = ([0.0, 0.0], [0.6, 1.5]);
-    let bound = eval.evaluate(&center, &half).lower;
+    let bound = eval.evaluate(&center, &half, None).lower;
     let mut rng = Rng::new(3, 0);
     for _ in 0..2000 {
         let q = [rng.range(-0.6, 0.6), rng.range(-1.5, 1.5)];
