@@ -21,6 +21,7 @@
 use crate::collision::{CollisionShape, signed_distance, signed_distance_points};
 use crate::math::{Pose, Vec3};
 use crate::robot::{Kinematics, PathJoint};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -159,6 +160,33 @@ struct Evaluation {
     weights: Vec<f64>,
     /// The hull's reach about each joint of side A's chain then side B's (0 for a prismatic joint).
     reaches: Vec<f64>,
+    /// Where the hulls' bound fell short and the pair has exact geometry: the links' poses and each
+    /// DOF's whole share, for [`Evaluation::finish`].
+    ask: Option<(Pose, Pose, Vec<f64>)>,
+    /// Whether the exact geometry was consulted.
+    consulted: bool,
+    /// Where the hulls overlap: the configuration, and whether the exact geometry collides there.
+    touching: Option<(Vec<f64>, bool)>,
+}
+
+impl Evaluation {
+    /// Checks the exact geometry for a collision where the hulls overlap (`collides`), and consults
+    /// its distance (`exact`) where the hulls' bound fell short and it was asked: the hulls contain
+    /// the geometry, so its points move no farther than theirs.
+    fn finish(&mut self, exact: Option<&ExactDistance>, collides: impl Fn(&[f64]) -> bool) {
+        if let Some((q, hit)) = &mut self.touching {
+            *hit = collides(q);
+        }
+        let (Some(exact), Some((pa, pb, whole))) = (exact, self.ask.take()) else {
+            return;
+        };
+        let bound = exact(&pa, &pb) - whole.iter().sum::<f64>();
+        if bound > self.lower {
+            self.lower = bound;
+            self.weights = whole;
+        }
+        self.consulted = true;
+    }
 }
 
 /// What a box's children take from it: its reaches, and the path DOF (index) it was split along.
@@ -184,10 +212,18 @@ struct Evaluator<'a> {
 }
 
 impl Evaluator<'_> {
-    fn evaluate(&mut self, center: &[f64], half: &[f64], from: Option<&Inherited>) -> Evaluation {
+    /// The configuration at `center` (the other DOFs at the pair's base).
+    fn config(&mut self, center: &[f64]) -> &[f64] {
         for (&d, &c) in self.dofs.iter().zip(center) {
             self.q[d] = c;
         }
+        &self.q
+    }
+
+    /// The hulls' bound over the box of `center` and `half`, and what the exact geometry would be
+    /// asked where it falls short (see [`Evaluation::finish`]).
+    fn evaluate(&mut self, center: &[f64], half: &[f64], from: Option<&Inherited>) -> Evaluation {
+        self.config(center);
         let p = self.pair;
         let (pa, pb) = p.kinematics.pair_path(
             &self.q,
@@ -248,24 +284,15 @@ impl Evaluator<'_> {
                 }
             }
         }
-        let mut lower = distance - weights.iter().sum::<f64>();
-        if lower <= self.margin
-            && let Some((exact, most)) = p.exact
-            && self.exact_queries < most
-        {
-            // The hulls contain the geometry, so its points move no farther than theirs.
-            let bound = exact(&pa, &pb) - whole.iter().sum::<f64>();
-            self.exact_queries += 1;
-            if bound > lower {
-                lower = bound;
-                weights = whole;
-            }
-        }
+        let lower = distance - weights.iter().sum::<f64>();
         Evaluation {
             distance,
             lower,
             weights,
             reaches,
+            ask: (lower <= self.margin && p.exact.is_some()).then_some((pa, pb, whole)),
+            consulted: false,
+            touching: (distance <= 0.0).then(|| (self.q.clone(), false)),
         }
     }
 }
@@ -296,7 +323,7 @@ pub fn certify(
     pair: &PairGeometry,
     margin: f64,
     budget: u64,
-    collides: impl Fn(&[f64]) -> bool,
+    collides: impl Fn(&[f64]) -> bool + Sync,
 ) -> Certificate {
     let dofs = path_dofs(pair);
     let limits: Vec<(f64, f64)> = dofs
@@ -331,17 +358,45 @@ pub fn certify(
     // What the boxes in `pending` take from their parent (none for the whole box).
     let mut inherited: Option<Inherited> = None;
     loop {
-        // Evaluate the new boxes: clear, keep open, or stop at an overlap.
-        for (center, half, volume) in pending.drain(..) {
-            let e = eval.evaluate(&center, &half, inherited.as_ref());
+        // Evaluate the new boxes on the hulls; then, the boxes side by side (each exact query costs
+        // up to milliseconds, and this pair may be the last one running), check the exact geometry
+        // for a collision where the hulls overlap and consult its distance where their bound falls
+        // short and the pair's allowance (counted in box order) lasts.
+        let mut evaluations: Vec<Evaluation> = pending
+            .iter()
+            .map(|(center, half, _)| eval.evaluate(center, half, inherited.as_ref()))
+            .collect();
+        let mut allowed = eval.exact_queries;
+        for e in &mut evaluations {
+            match pair.exact {
+                Some((_, most)) if e.ask.is_some() && allowed < most => allowed += 1,
+                _ => e.ask = None,
+            }
+        }
+        let exact = pair.exact.map(|(exact, _)| exact);
+        let costly = |e: &Evaluation| e.touching.is_some() || e.ask.is_some();
+        if evaluations.iter().filter(|e| costly(e)).count() > 1 {
+            evaluations
+                .par_iter_mut()
+                .with_max_len(1)
+                .for_each(|e| e.finish(exact, &collides));
+        } else {
+            evaluations
+                .iter_mut()
+                .for_each(|e| e.finish(exact, &collides));
+        }
+        // Take them in order: clear, keep open, or stop at an overlap (counting the exact queries
+        // of the boxes taken only, as a search one box at a time would).
+        for ((center, half, volume), e) in pending.drain(..).zip(evaluations) {
+            eval.exact_queries += u64::from(e.consulted);
             out.boxes += 1;
             if e.distance < out.closest {
                 out.closest = e.distance;
-                out.q = eval.q.clone();
+                out.q = eval.config(&center).to_vec();
             }
-            if e.distance <= 0.0 {
-                let stop = if collides(&eval.q) {
-                    out.q = eval.q.clone();
+            if let Some((q, hit)) = e.touching {
+                let stop = if hit {
+                    out.q = q;
                     Some(Status::Collides)
                 } else {
                     pair.exact.is_none().then_some(Status::HullsTouch)
