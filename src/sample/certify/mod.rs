@@ -160,11 +160,10 @@ struct Evaluation {
     weights: Vec<f64>,
     /// The hull's reach about each joint of side A's chain then side B's (0 for a prismatic joint).
     reaches: Vec<f64>,
-    /// Where the hulls' bound fell short and the pair has exact geometry: the links' poses and each
-    /// DOF's whole share, for [`Evaluation::finish`].
+    /// Where the hulls' bound fell short and the pair has exact geometry (and, once the allowance is
+    /// counted, only where it lasts): the links' poses and each DOF's whole share, for
+    /// [`Evaluation::finish`].
     ask: Option<(Pose, Pose, Vec<f64>)>,
-    /// Whether the exact geometry was consulted.
-    consulted: bool,
     /// Where the hulls overlap: the configuration, and whether the exact geometry collides there.
     touching: Option<(Vec<f64>, bool)>,
 }
@@ -177,15 +176,14 @@ impl Evaluation {
         if let Some((q, hit)) = &mut self.touching {
             *hit = collides(q);
         }
-        let (Some(exact), Some((pa, pb, whole))) = (exact, self.ask.take()) else {
+        let (Some(exact), Some((pa, pb, whole))) = (exact, &self.ask) else {
             return;
         };
-        let bound = exact(&pa, &pb) - whole.iter().sum::<f64>();
+        let bound = exact(pa, pb) - whole.iter().sum::<f64>();
         if bound > self.lower {
             self.lower = bound;
-            self.weights = whole;
+            self.weights = whole.clone();
         }
-        self.consulted = true;
     }
 }
 
@@ -291,7 +289,6 @@ impl Evaluator<'_> {
             weights,
             reaches,
             ask: (lower <= self.margin && p.exact.is_some()).then_some((pa, pb, whole)),
-            consulted: false,
             touching: (distance <= 0.0).then(|| (self.q.clone(), false)),
         }
     }
@@ -388,7 +385,7 @@ pub fn certify(
         // Take them in order: clear, keep open, or stop at an overlap (counting the exact queries
         // of the boxes taken only, as a search one box at a time would).
         for ((center, half, volume), e) in pending.drain(..).zip(evaluations) {
-            eval.exact_queries += u64::from(e.consulted);
+            eval.exact_queries += u64::from(e.ask.is_some());
             out.boxes += 1;
             if e.distance < out.closest {
                 out.closest = e.distance;
