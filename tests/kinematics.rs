@@ -128,3 +128,28 @@ fn rpy_is_fixed_axis_xyz() {
     // Rx(90) leaves x; Rz(90) maps x -> y.
     assert!(close(r * Vec3::X, Vec3::Y));
 }
+
+#[test]
+fn one_dof_steps_give_the_full_poses_to_the_bit() {
+    // The targeted search moves one DOF at a time from a base and recomputes only what it moves; its
+    // poses must be the ones the full computation gives, or the search would depend on its path.
+    let robot = load();
+    let k = Kinematics::new(&robot);
+    let base = [0.7, 0.31, 1.1, -2.5];
+    let moved = [-1.9, 0.05, 0.6, 3.0];
+    for a in 0..robot.links.len() {
+        for b in 0..robot.links.len() {
+            let mut chains = k.pair_chains(a, b);
+            chains.set_base(&base);
+            for dof in 0..base.len() {
+                let mut q = base;
+                q[dof] = moved[dof];
+                let (pa, pb) = chains.poses(&q, dof);
+                let (fa, fb) = k.pair_poses(&q, a, b);
+                assert_eq!((pa, pb), (fa, fb), "links {a} and {b}, DOF {dof}");
+                // Back at the base, unchanged.
+                assert_eq!(chains.poses(&base, dof), k.pair_poses(&base, a, b));
+            }
+        }
+    }
+}

@@ -244,6 +244,21 @@ impl Kinematics {
         (pose(&ca[common..]), pose(&cb[common..]))
     }
 
+    /// The chains of links `a` and `b` below their nearest common ancestor, ready to place the pair at
+    /// configurations that differ from one base in a single DOF (see [`PairChains`]).
+    pub fn pair_chains(&self, a: usize, b: usize) -> PairChains<'_> {
+        let (ca, cb) = (&self.chains[a], &self.chains[b]);
+        let common = ca.iter().zip(cb).take_while(|(x, y)| x == y).count();
+        PairChains {
+            kinematics: self,
+            sides: [&ca[common..], &cb[common..]].map(|chain| ChainSide {
+                steps: chain.to_vec(),
+                transforms: Vec::new(),
+                prefix: Vec::new(),
+            }),
+        }
+    }
+
     /// The DOF that drives joint `joint` (its own, or its leader's for a mimic joint), if it moves.
     pub fn joint_dof(&self, joint: usize) -> Option<usize> {
         self.steps
@@ -323,5 +338,67 @@ impl Kinematics {
         let mut poses = Vec::new();
         self.link_poses_into(q, &mut poses);
         poses
+    }
+}
+
+/// The two chains of a link pair below their common ancestor with every step's transform at a base
+/// configuration, for a local search that moves one DOF at a time: a pose at a configuration that
+/// differs from the base in one DOF recomputes only the steps that DOF drives and the products from the
+/// first of them on. The products are formed in the same order as [`Kinematics::pair_poses`] forms
+/// them, so the poses are the same to the bit.
+#[derive(Debug, Clone)]
+pub struct PairChains<'k> {
+    kinematics: &'k Kinematics,
+    sides: [ChainSide; 2],
+}
+
+#[derive(Debug, Clone)]
+struct ChainSide {
+    /// The chain's step indices, from the common ancestor down.
+    steps: Vec<usize>,
+    /// Each step's transform at the base.
+    transforms: Vec<Pose>,
+    /// `prefix[t]`: the product of the first `t` transforms (one more entry than steps).
+    prefix: Vec<Pose>,
+}
+
+impl PairChains<'_> {
+    /// Makes `q` the base.
+    pub fn set_base(&mut self, q: &[f64]) {
+        let steps = &self.kinematics.steps;
+        for side in &mut self.sides {
+            side.transforms.clear();
+            side.transforms
+                .extend(side.steps.iter().map(|&i| steps[i].transform(q)));
+            side.prefix.clear();
+            side.prefix.push(Pose::IDENTITY);
+            for (t, transform) in side.transforms.iter().enumerate() {
+                let next = side.prefix[t] * *transform;
+                side.prefix.push(next);
+            }
+        }
+    }
+
+    /// The poses of the two links at `q`, which may differ from the base only in DOF `dof`: the same
+    /// as [`Kinematics::pair_poses`] gives.
+    pub fn poses(&self, q: &[f64], dof: usize) -> (Pose, Pose) {
+        let steps = &self.kinematics.steps;
+        let pose = |side: &ChainSide| {
+            let moved = |i: usize| steps[i].dof() == Some(dof);
+            match side.steps.iter().position(|&i| moved(i)) {
+                None => side.prefix[side.steps.len()],
+                Some(first) => side.steps[first..]
+                    .iter()
+                    .zip(&side.transforms[first..])
+                    .fold(side.prefix[first], |pose, (&i, transform)| {
+                        pose * if moved(i) {
+                            steps[i].transform(q)
+                        } else {
+                            *transform
+                        }
+                    }),
+            }
+        };
+        (pose(&self.sides[0]), pose(&self.sides[1]))
     }
 }

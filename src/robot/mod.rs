@@ -6,7 +6,7 @@ mod packages;
 mod tree;
 mod urdf;
 
-pub use kinematics::{Configuration, Dof, Kinematics, PathJoint, random_configuration};
+pub use kinematics::{Configuration, Dof, Kinematics, PairChains, PathJoint, random_configuration};
 pub use packages::PackagePaths;
 pub use urdf::{MAX_MAGNITUDE, UrdfOptions, load_urdf, parse_urdf, rpy_to_rotation};
 

@@ -4,13 +4,13 @@
 use super::engine::{self, CHUNK, Engine};
 use super::reasons::{Evidence, Reason, infer, never_upper_bound};
 use super::records::{PairRecord, SampleFile, TypeSummary, Witness};
-use super::search::search_pair;
+use super::search::{SearchOutcome, SearchTarget, search_link_pair};
 use super::stats::PairStats;
 use super::{EXACT_MEAN, SampleOptions};
 use crate::progress::Progress;
 use crate::urdd::FORMAT_VERSION;
 use rayon::prelude::*;
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 /// Samples of the pilot run that sizes each pair's exact-mean budget: the first samples of chunk 0.
 const PILOT: u64 = 256;
@@ -161,9 +161,11 @@ pub(super) fn finalize(
     let n = opts.samples;
     let mean_samples = opts.mean_samples.min(n);
 
-    let mut files = Vec::new();
+    // Records first, every type; then the targeted search of the close `never` pairs of all types,
+    // a link pair at a time (see `search`).
+    let mut records: Vec<Vec<(PairRecord, Evidence)>> = Vec::new();
     for (s, (set, stats)) in engine.sets.iter().zip(acc).enumerate() {
-        let mut pairs: Vec<PairRecord> = set
+        let pairs = set
             .pairs
             .par_iter()
             .enumerate()
@@ -209,7 +211,7 @@ pub(super) fn finalize(
                     collision_fraction,
                     search_collision: false,
                 };
-                let mut record = PairRecord {
+                let record = PairRecord {
                     a: i as usize,
                     b: j as usize,
                     reason: infer(&evidence, opts.always_fraction),
@@ -223,33 +225,16 @@ pub(super) fn finalize(
                     witness,
                     search: None,
                 };
-                if record.reason == Reason::Never
-                    && set.moving[p]
-                    && record.d_min < opts.search.margin
-                {
-                    let outcome = search_pair(
-                        &engine.kinematics,
-                        &engine.sets[s],
-                        s,
-                        p,
-                        &record.witness.q,
-                        opts.seed,
-                        &opts.search,
-                    );
-                    if outcome.collision {
-                        record.reason = infer(
-                            &Evidence {
-                                search_collision: true,
-                                ..evidence
-                            },
-                            opts.always_fraction,
-                        );
-                    }
-                    record.search = Some(outcome);
-                }
-                record
+                (record, evidence)
             })
             .collect();
+        records.push(pairs);
+    }
+    search(engine, opts, &mut records);
+
+    let mut files = Vec::new();
+    for (set, records) in engine.sets.iter().zip(records) {
+        let mut pairs: Vec<PairRecord> = records.into_iter().map(|(r, _)| r).collect();
         pairs.sort_by_key(|r| (r.a, r.b));
         let mut summary = TypeSummary {
             shapes: set.shapes.len(),
@@ -275,4 +260,54 @@ pub(super) fn finalize(
         });
     }
     files
+}
+
+/// The targeted search of every moving `never` pair (of any type) with `d_min` below the search margin,
+/// grouped by link pair and the groups in parallel; a collision found overturns the verdict.
+fn search(engine: &Engine, opts: &SampleOptions, records: &mut [Vec<(PairRecord, Evidence)>]) {
+    let mut groups: BTreeMap<(usize, usize), Vec<(usize, usize)>> = BTreeMap::new();
+    for (s, (set, records)) in engine.sets.iter().zip(records.iter()).enumerate() {
+        for (p, (record, _)) in records.iter().enumerate() {
+            if record.reason == Reason::Never && set.moving[p] && record.d_min < opts.search.margin
+            {
+                let (la, lb) = set.pair_links(p);
+                groups
+                    .entry((la.min(lb), la.max(lb)))
+                    .or_default()
+                    .push((s, p));
+            }
+        }
+    }
+    let groups: Vec<_> = groups.into_iter().collect();
+    let outcomes: Vec<Vec<SearchOutcome>> = groups
+        .par_iter()
+        .map(|(links, members)| {
+            let targets: Vec<SearchTarget> = members
+                .iter()
+                .map(|&(s, p)| SearchTarget {
+                    set: s,
+                    pair: p,
+                    witness: &records[s][p].0.witness.q,
+                })
+                .collect();
+            search_link_pair(
+                &engine.kinematics,
+                &engine.sets,
+                *links,
+                &targets,
+                opts.seed,
+                &opts.search,
+            )
+        })
+        .collect();
+    for ((_, members), outcomes) in groups.iter().zip(outcomes) {
+        for (&(s, p), outcome) in members.iter().zip(outcomes) {
+            let (record, evidence) = &mut records[s][p];
+            if outcome.collision {
+                evidence.search_collision = true;
+                record.reason = infer(evidence, opts.always_fraction);
+            }
+            record.search = Some(outcome);
+        }
+    }
 }

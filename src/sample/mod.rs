@@ -23,7 +23,7 @@ pub use engine::{CHUNK, Engine};
 pub use mesh::{LinkPairRecord, MESH_FILE, MeshFile, MeshSummary, NeverEvidence, load_mesh_file};
 pub use reasons::{Evidence, Reason, infer, never_upper_bound};
 pub use records::{PairRecord, SampleFile, TypeSummary, Witness};
-pub use search::{SearchOutcome, SearchParams, search_pair};
+pub use search::{SearchOutcome, SearchParams, SearchTarget, search_link_pair};
 pub use sets::{PairSet, PlacedPair};
 pub use stats::PairStats;
 pub use work::Work;

@@ -2,7 +2,7 @@
 //! to sample, and one pair placed at a configuration. What the block placement, the distance tables,
 //! the targeted search and the engine all query, so none of them needs the engine itself.
 
-use crate::collision::{CollisionShape, Hint, signed_distance_hinted};
+use crate::collision::{CollisionShape, Hint, Window, signed_distance_hinted, window};
 use crate::math::Pose;
 use crate::robot::Kinematics;
 use crate::shapes::ShapeType;
@@ -32,9 +32,14 @@ impl PairSet {
     /// Pair `p` placed at configuration `q` (forward kinematics of its two links only, from their
     /// common ancestor).
     pub fn pair_at(&self, kinematics: &Kinematics, p: usize, q: &[f64]) -> PlacedPair<'_> {
-        let (i, j) = self.pairs[p];
         let (la, lb) = self.pair_links(p);
-        let (link_a, link_b) = kinematics.pair_poses(q, la, lb);
+        self.placed(p, kinematics.pair_poses(q, la, lb))
+    }
+
+    /// Pair `p` with its two links at poses `(link_a, link_b)` (of its first and second shape's link,
+    /// in any one frame).
+    pub fn placed(&self, p: usize, (link_a, link_b): (Pose, Pose)) -> PlacedPair<'_> {
+        let (i, j) = self.pairs[p];
         PlacedPair {
             a: &self.shapes[i as usize],
             b: &self.shapes[j as usize],
@@ -59,6 +64,19 @@ impl PlacedPair<'_> {
         let ca = self.link_a.transform_point(self.a.outer_center);
         let cb = self.link_b.transform_point(self.b.outer_center);
         ca.distance(cb) - self.a.outer_radius - self.b.outer_radius
+    }
+
+    /// Whether the signed distance may lie below `d`, `lower` being a lower bound on it already known:
+    /// `false` once the bound, or else a GJK that stops as soon as it can tell (much cheaper than
+    /// [`PlacedPair::distance`] when it does), shows it does not.
+    pub fn may_be_below(&self, d: f64, lower: f64, hint: &mut Hint) -> bool {
+        if lower >= d {
+            return false;
+        }
+        let (pa, pb) = (self.a.pose(&self.link_a), self.b.pose(&self.link_b));
+        let known = (lower, f64::INFINITY);
+        let gjk = window(self.a, &pa, self.b, &pb, d, f64::INFINITY, known, hint);
+        gjk == Window::Open
     }
 
     /// The exact signed distance.
