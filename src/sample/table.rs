@@ -17,7 +17,7 @@ pub const MAX_RANK: usize = 2;
 /// the exact distance (m), as fine as [`MAX_POINTS`] allows.
 const TARGET_SLACK: f64 = 1e-5;
 
-/// Most grid points per table, by rank. A table costs one exact query per point to build and four
+/// Most grid points per table, by rank. A table costs one exact query per point to build and two
 /// bytes per point to keep.
 const MAX_POINTS: [usize; MAX_RANK] = [1024, 1024];
 
@@ -47,8 +47,14 @@ struct Axis {
 #[derive(Debug, Clone)]
 pub struct Table {
     axes: Vec<Axis>,
-    /// The distance at every grid point, the last axis varying fastest, rounded to `f32`.
-    values: Vec<f32>,
+    /// The distance at every grid point, the last axis varying fastest, as `base + unit * value`:
+    /// 16 bits a point, so that the tables of a large robot stay in cache (a table spans the distances
+    /// of links at most two joints apart, so its step is a few micrometres).
+    values: Vec<u16>,
+    /// The least distance in the table (m).
+    base: f64,
+    /// The distance of one unit of `values` (m).
+    unit: f64,
     /// At least the largest rounding error of `values` (m).
     rounding: f64,
 }
@@ -83,6 +89,7 @@ impl Table {
         // The axes held in locals for the whole block, and the rows checked once.
         let axes: [Axis; R] = std::array::from_fn(|r| self.axes[r]);
         let (values, rounding) = (&self.values[..], self.rounding);
+        let value = |index: usize| self.base + self.unit * f64::from(values[index]);
         for (row, (lower, upper)) in q.chunks_exact(dofs).zip(out.iter_mut()) {
             // Per axis: the Lipschitz slack to the cell's lower and upper grid value. The cell found
             // by rounding may be off by one at a boundary; the bounds hold from any grid point.
@@ -110,7 +117,7 @@ impl Table {
                         slack += near[r];
                     }
                 }
-                let v = f64::from(values[index]);
+                let v = value(index);
                 lo = lo.max(v - slack);
                 hi = hi.min(v + slack);
             }
@@ -181,15 +188,28 @@ pub fn build(robot: &Robot, kinematics: &Kinematics, set: &PairSet, p: usize) ->
                 && (values[index + axis.stride] - values[index]).abs() > axis.lipschitz * axis.step
         })
     });
-    if jumps {
+    if jumps || values.iter().any(|v| !v.is_finite()) {
         return None;
     }
-    // Rounding to f32 moves a value by at most half a unit in its last place, 2^-24 of its size.
-    let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    // 65,535 steps from the least value to the greatest; the rounding error is measured as the
+    // lookup will see it.
+    let base = values.iter().copied().fold(f64::INFINITY, f64::min);
+    let top = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let unit = ((top - base) / f64::from(u16::MAX)).max(1e-15);
+    // A whole number in 0..=u16::MAX after the clamp, so the cast is exact.
+    let units: Vec<u16> = values
+        .iter()
+        .map(|&v| ((v - base) / unit).round().clamp(0.0, f64::from(u16::MAX)) as u16)
+        .collect();
+    let error = values.iter().zip(&units).fold(0.0f64, |m, (&v, &n)| {
+        m.max((base + unit * f64::from(n) - v).abs())
+    });
     Some(Table {
         axes,
-        values: values.iter().map(|&v| v as f32).collect(),
-        rounding: largest * f64::powi(2.0, -23) + 1e-12,
+        values: units,
+        base,
+        unit,
+        rounding: error * (1.0 + 1e-9) + 1e-12,
     })
 }
 
