@@ -74,7 +74,8 @@ struct Search<'a> {
     /// Whether the pair's shapes hang from the link pair's links in reverse order.
     swapped: bool,
     starts: Vec<(f64, Vec<f64>)>,
-    collision: Option<SearchOutcome>,
+    /// A configuration where the dense samples found a collision, and its distance.
+    collision: Option<(f64, Vec<f64>)>,
     evaluations: u64,
     hint: Hint,
 }
@@ -84,6 +85,16 @@ impl Search<'_> {
     fn eval(&mut self, placed: &PlacedPair) -> f64 {
         self.evaluations += 1;
         placed.distance_hinted(&mut self.hint)
+    }
+
+    /// What the search found: `d_min` at `q`, a collision where it is not positive.
+    fn outcome(&self, d_min: f64, q: Vec<f64>) -> SearchOutcome {
+        SearchOutcome {
+            d_min,
+            collision: d_min <= 0.0,
+            q,
+            evaluations: self.evaluations,
+        }
     }
 
     /// The witness with the path DOFs `dofs` set to `x`.
@@ -148,42 +159,28 @@ pub fn search_link_pair(
                 (pose_a, pose_b)
             };
             let placed = set.placed(search.target.pair, poses);
-            if search.starts.len() >= keep
-                && !placed.may_be_below(
-                    search.starts[keep - 1].0,
-                    placed.lower_bound(),
-                    &mut search.hint,
-                )
-            {
+            let full = search.starts.len() >= keep;
+            // The witness is always a start, so there is a worst one.
+            let worst = search.starts[search.starts.len() - 1].0;
+            if full && !placed.may_be_below(worst, &mut search.hint) {
                 continue;
             }
             let d = search.eval(&placed);
-            let q = search.configuration(&dofs, &x);
             if d <= 0.0 {
-                search.collision = Some(SearchOutcome {
-                    d_min: d,
-                    collision: true,
-                    q,
-                    evaluations: 0,
-                });
-                continue;
+                search.collision = Some((d, search.configuration(&dofs, &x)));
+            } else if !full || d < worst {
+                // Behind the kept starts of equal distance, which come first.
+                search.starts.push((d, search.configuration(&dofs, &x)));
+                search.starts.sort_by(|a, b| a.0.total_cmp(&b.0));
+                search.starts.truncate(keep);
             }
-            search.starts.push((d, q));
-            search.starts.sort_by(|a, b| a.0.total_cmp(&b.0));
-            search.starts.truncate(keep);
         }
     }
     searches
         .into_par_iter()
-        .map(|mut search| {
-            let evaluations = search.evaluations;
-            match search.collision.take() {
-                Some(found) => SearchOutcome {
-                    evaluations,
-                    ..found
-                },
-                None => local_search(kinematics, sets, &dofs, &bounds, search, params),
-            }
+        .map(|mut search| match search.collision.take() {
+            Some((d, q)) => search.outcome(d, q),
+            None => local_search(kinematics, sets, &dofs, &bounds, search, params),
         })
         .collect()
 }
@@ -223,19 +220,14 @@ fn local_search(
                     // A step whose distance cannot lie below `d` cannot improve on it: no exact
                     // query (the search takes the same path either way).
                     let placed = set.placed(pair, chains.poses(&q, dof));
-                    if placed.may_be_below(d, placed.lower_bound(), &mut search.hint) {
+                    if placed.may_be_below(d, &mut search.hint) {
                         let trial = search.eval(&placed);
                         if trial < d {
                             d = trial;
                             improved = true;
                             chains.set_base(&q);
                             if d <= 0.0 {
-                                return SearchOutcome {
-                                    d_min: d,
-                                    collision: true,
-                                    q,
-                                    evaluations: search.evaluations,
-                                };
+                                return search.outcome(d, q);
                             }
                             break;
                         }
@@ -251,10 +243,5 @@ fn local_search(
             best = (d, q);
         }
     }
-    SearchOutcome {
-        d_min: best.0,
-        collision: false,
-        q: best.1,
-        evaluations: search.evaluations,
-    }
+    search.outcome(best.0, best.1)
 }

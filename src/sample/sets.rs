@@ -66,10 +66,11 @@ impl PlacedPair<'_> {
         ca.distance(cb) - self.a.outer_radius - self.b.outer_radius
     }
 
-    /// Whether the signed distance may lie below `d`, `lower` being a lower bound on it already known:
-    /// `false` once the bound, or else a GJK that stops as soon as it can tell (much cheaper than
-    /// [`PlacedPair::distance`] when it does), shows it does not.
-    pub fn may_be_below(&self, d: f64, lower: f64, hint: &mut Hint) -> bool {
+    /// Whether the signed distance may lie below `d`: `false` once the sphere bound, or else a GJK that
+    /// stops as soon as it can tell (much cheaper than [`PlacedPair::distance`] when it does), shows it
+    /// does not.
+    pub fn may_be_below(&self, d: f64, hint: &mut Hint) -> bool {
+        let lower = self.lower_bound();
         if lower >= d {
             return false;
         }

@@ -89,7 +89,7 @@ impl Table {
         // The axes held in locals for the whole block, and the rows checked once.
         let axes: [Axis; R] = std::array::from_fn(|r| self.axes[r]);
         let (values, rounding) = (&self.values[..], self.rounding);
-        let value = |index: usize| self.base + self.unit * f64::from(values[index]);
+        let value = |index: usize| decode(self.base, self.unit, values[index]);
         for (row, (lower, upper)) in q.chunks_exact(dofs).zip(out.iter_mut()) {
             // Per axis: the Lipschitz slack to the cell's lower and upper grid value. The cell found
             // by rounding may be off by one at a boundary; the bounds hold from any grid point.
@@ -202,7 +202,7 @@ pub fn build(robot: &Robot, kinematics: &Kinematics, set: &PairSet, p: usize) ->
         .map(|&v| ((v - base) / unit).round().clamp(0.0, f64::from(u16::MAX)) as u16)
         .collect();
     let error = values.iter().zip(&units).fold(0.0f64, |m, (&v, &n)| {
-        m.max((base + unit * f64::from(n) - v).abs())
+        m.max((decode(base, unit, n) - v).abs())
     });
     Some(Table {
         axes,
@@ -211,6 +211,13 @@ pub fn build(robot: &Robot, kinematics: &Kinematics, set: &PairSet, p: usize) ->
         unit,
         rounding: error * (1.0 + 1e-9) + 1e-12,
     })
+}
+
+/// The distance a table stores as `n` units of `unit` above `base`: the one decoding, so that the
+/// rounding measured when the table is built is the one its lookups see.
+#[inline]
+fn decode(base: f64, unit: f64, n: u16) -> f64 {
+    base + unit * f64::from(n)
 }
 
 /// Grid points per axis for Lipschitz constants `lipschitz` over spans `spans`: the slack in a cell
