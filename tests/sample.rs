@@ -400,6 +400,68 @@ fn estimates_stay_within_their_documented_error_on_ur5e() {
     );
 }
 
+/// b1's hips of one side turn about one line (parallel to the trunk's x axis through both hip joints),
+/// so a pair of them (or of the thigh rotors fixed to them) depends only on the hips' relative turn:
+/// its table spans that one coordinate, as fine as a one-DOF table, and still bounds the exact distance
+/// at random configurations. No other pair of b1 is coaxial (the front hips, say, turn about parallel
+/// but distinct lines). (It fails with the relative turn's sign flipped.)
+#[test]
+fn coaxial_tables_bracket_the_exact_distance() {
+    let Some(robots) = common::robots_dir() else {
+        return;
+    };
+    let dir = common::preprocessed(&robots.join("b1/b1.urdf"), "b1-coaxial");
+    let urdd = Urdd::open(&dir).unwrap();
+    let types = [ShapeType::Hull, ShapeType::DecompHull];
+    let engine = scm::sample::Engine::load(&urdd, &types).unwrap();
+    let names: Vec<&str> = engine.robot.links.iter().map(|l| l.name.as_str()).collect();
+    let mut rng = scm::rng::Rng::new(12, 0);
+    let mut pairs = std::collections::BTreeSet::new();
+    let (mut checked, mut within) = (0usize, 0usize);
+    for (s, (set, tables)) in engine.sets.iter().zip(&engine.tables).enumerate() {
+        for (p, table) in tables.iter().enumerate() {
+            let Some(table) = table.as_ref().filter(|t| t.is_coaxial()) else {
+                continue;
+            };
+            assert_eq!(table.rank(), 1);
+            let (i, j) = set.pairs[p];
+            let link = |k: u32| names[set.links[k as usize]];
+            pairs.insert((link(i), link(j)));
+            for _ in 0..40 {
+                let mut q = Vec::new();
+                scm::robot::random_configuration(engine.kinematics.dofs(), &mut rng, &mut q);
+                let d = engine.pair_distance(s, p, &q);
+                let (lower, upper) = table.bounds(&q);
+                assert!(
+                    lower <= d + 1e-6 && d <= upper + 1e-6,
+                    "{} pair {:?}: {d} outside [{lower}, {upper}]",
+                    set.shape_type.id(),
+                    set.pairs[p]
+                );
+                checked += 1;
+                within += usize::from(upper - lower < 1e-3);
+            }
+        }
+    }
+    // Each side's hips, and the thigh rotors fixed to them.
+    let expected = [
+        ("FL_hip", "RL_hip"),
+        ("FL_hip", "RL_thigh_rotor"),
+        ("FL_thigh_rotor", "RL_hip"),
+        ("FL_thigh_rotor", "RL_thigh_rotor"),
+        ("FR_hip", "RR_hip"),
+        ("FR_hip", "RR_thigh_rotor"),
+        ("FR_thigh_rotor", "RR_hip"),
+        ("FR_thigh_rotor", "RR_thigh_rotor"),
+    ];
+    assert_eq!(pairs, expected.into_iter().collect(), "coaxial link pairs");
+    assert!(checked >= 2000, "only {checked} checks");
+    assert!(
+        within * 10 >= checked * 9,
+        "{within} of {checked} coaxial bounds within 1 mm"
+    );
+}
+
 /// Every table (pairs that depend on one or two DOFs: adjacent links, Panda's mimic fingers, links two
 /// joints apart) bounds the exact signed distance at random configurations: the Lipschitz constants it
 /// is built with cover how fast either shape can move, so no sample it settles could have been decided
@@ -418,7 +480,7 @@ fn tables_bracket_the_exact_distance() {
     for (s, (set, tables)) in engine.sets.iter().zip(&engine.tables).enumerate() {
         for (p, table) in tables.iter().enumerate() {
             let Some(table) = table else { continue };
-            let rank = table.dofs().count();
+            let rank = table.rank();
             for _ in 0..24 {
                 let mut q = Vec::new();
                 scm::robot::random_configuration(engine.kinematics.dofs(), &mut rng, &mut q);

@@ -5,9 +5,15 @@
 //! of the grid cell around x give the tightest such bounds. Sampling then runs an exact query only
 //! where those bounds cannot rule out a new minimum, maximum or collision verdict, so the results stay
 //! exact.
+//!
+//! Two links that each turn on one joint about the same line (the two hips of a quadruped's side, the
+//! wheels on an axle) have a relative pose that depends only on how far the two joints turn relative
+//! to each other: their table spans that one coordinate, `q_b - s q_a` (`s` = 1 for the same axis
+//! direction, -1 for opposite ones), so its grid is as fine as a one-DOF table's.
 
 use super::sets::PairSet;
 use crate::collision::Hint;
+use crate::math::Vec3;
 use crate::robot::{JointKind, Kinematics, Robot};
 
 /// Most DOFs a table spans.
@@ -24,11 +30,15 @@ const MAX_POINTS: [usize; MAX_RANK] = [1024, 1024];
 /// Fewest grid points per axis, by rank.
 const MIN_POINTS: [usize; MAX_RANK] = [64, 8];
 
-/// One DOF of a table: its grid and how fast the distance can change along it.
+/// One coordinate of a table, `q[dof] - coaxial * q[other]`: a DOF (`coaxial` 0), or the relative
+/// turn of two coaxial joints. Its grid and how fast the distance can change along it.
 #[derive(Debug, Clone, Copy)]
 struct Axis {
     /// The DOF index.
     dof: usize,
+    /// The DOF subtracted, and its factor (0 for a plain DOF; then `other` is `dof`).
+    other: usize,
+    coaxial: f64,
     /// The first grid value (the DOF's lower limit).
     lower: f64,
     /// Grid spacing, and its inverse.
@@ -60,9 +70,14 @@ pub struct Table {
 }
 
 impl Table {
-    /// The DOFs the table spans, in increasing order.
-    pub fn dofs(&self) -> impl Iterator<Item = usize> + '_ {
-        self.axes.iter().map(|a| a.dof)
+    /// The number of coordinates the table spans (1 or 2; a coaxial pair's relative turn is one).
+    pub fn rank(&self) -> usize {
+        self.axes.len()
+    }
+
+    /// Whether the table spans the relative turn of two coaxial joints.
+    pub fn is_coaxial(&self) -> bool {
+        self.axes.iter().any(|a| a.coaxial != 0.0)
     }
 
     /// Lower and upper bounds of the signed distance at configuration `q` (all DOFs; the table reads
@@ -77,14 +92,22 @@ impl Table {
     /// sample, `q` holding one row of `dofs` values per element of `out`.
     #[inline]
     pub fn tighten(&self, q: &[f64], dofs: usize, out: &mut [(f64, f64)]) {
-        match self.axes.len() {
-            1 => self.tighten_in::<1>(q, dofs, out),
-            _ => self.tighten_in::<2>(q, dofs, out),
+        match (self.axes.len(), self.is_coaxial()) {
+            (1, false) => self.tighten_in::<1, false>(q, dofs, out),
+            (1, true) => self.tighten_in::<1, true>(q, dofs, out),
+            _ => self.tighten_in::<2, false>(q, dofs, out),
         }
     }
 
+    /// [`Table::tighten`] for `R` axes, `COAXIAL` when an axis is a relative turn (else the
+    /// subtraction is compiled out).
     #[inline]
-    fn tighten_in<const R: usize>(&self, q: &[f64], dofs: usize, out: &mut [(f64, f64)]) {
+    fn tighten_in<const R: usize, const COAXIAL: bool>(
+        &self,
+        q: &[f64],
+        dofs: usize,
+        out: &mut [(f64, f64)],
+    ) {
         debug_assert_eq!(self.axes.len(), R);
         // The axes held in locals for the whole block, and the rows checked once.
         let axes: [Axis; R] = std::array::from_fn(|r| self.axes[r]);
@@ -95,7 +118,11 @@ impl Table {
             // by rounding may be off by one at a boundary; the bounds hold from any grid point.
             let (mut base, mut near, mut far) = (0, [0.0; R], [0.0; R]);
             for (r, axis) in axes.iter().enumerate() {
-                let x = row[axis.dof];
+                let x = if COAXIAL {
+                    row[axis.dof] - axis.coaxial * row[axis.other]
+                } else {
+                    row[axis.dof]
+                };
                 // The cell below `x`: truncation is the floor for the values it keeps (at least 0;
                 // a float-to-int `as` saturates; through i64, one instruction), without a call to
                 // libm's `floor` on every lookup.
@@ -140,23 +167,44 @@ pub fn build(robot: &Robot, kinematics: &Kinematics, set: &PairSet, p: usize) ->
     if dofs.is_empty() || dofs.len() > MAX_RANK {
         return None;
     }
-    let lipschitz = lipschitz(robot, kinematics, set, p, &dofs);
-    let spans: Vec<f64> = dofs.iter().map(|&d| kinematics.dofs()[d].span()).collect();
+    let coordinates = match coaxial(robot, kinematics, set, p) {
+        Some(turn) => vec![turn],
+        None => {
+            let lipschitz = lipschitz(robot, kinematics, set, p, &dofs);
+            dofs.iter()
+                .zip(lipschitz)
+                .map(|(&d, lipschitz)| {
+                    let dof = &kinematics.dofs()[d];
+                    Coordinate {
+                        dof: d,
+                        other: d,
+                        coaxial: 0.0,
+                        lower: dof.lower,
+                        span: dof.span(),
+                        lipschitz,
+                    }
+                })
+                .collect()
+        }
+    };
+    let lipschitz: Vec<f64> = coordinates.iter().map(|c| c.lipschitz).collect();
+    let spans: Vec<f64> = coordinates.iter().map(|c| c.span).collect();
     let points = grid(&lipschitz, &spans);
-    let mut axes: Vec<Axis> = dofs
+    let mut axes: Vec<Axis> = coordinates
         .iter()
         .zip(&points)
-        .zip(lipschitz.iter().zip(&spans))
-        .map(|((&dof, &points), (&l, &span))| {
-            let step = span / (points - 1) as f64;
+        .map(|(c, &points)| {
+            let step = c.span / (points - 1) as f64;
             Axis {
-                dof,
-                lower: kinematics.dofs()[dof].lower,
+                dof: c.dof,
+                other: c.other,
+                coaxial: c.coaxial,
+                lower: c.lower,
                 step,
                 inv_step: 1.0 / step,
                 points,
                 stride: 0,
-                lipschitz: l * (1.0 + 1e-9) + 1e-12,
+                lipschitz: c.lipschitz * (1.0 + 1e-9) + 1e-12,
             }
         })
         .collect();
@@ -166,7 +214,11 @@ pub fn build(robot: &Robot, kinematics: &Kinematics, set: &PairSet, p: usize) ->
         stride *= axis.points;
     }
     // Row by row, each query starting from the last one's points (neighbours on the grid are close).
+    // A relative turn is placed with the subtracted joint at 0: only the difference matters.
     let mut q = kinematics.home();
+    for axis in axes.iter().filter(|a| a.coaxial != 0.0) {
+        q[axis.other] = 0.0;
+    }
     let mut hint = Hint::default();
     let values: Vec<f64> = (0..stride)
         .map(|index| {
@@ -210,6 +262,93 @@ pub fn build(robot: &Robot, kinematics: &Kinematics, set: &PairSet, p: usize) ->
         base,
         unit,
         rounding: error * (1.0 + 1e-9) + 1e-12,
+    })
+}
+
+/// A joint's axis line at home (root frame) and its DOF.
+struct Line {
+    point: Vec3,
+    axis: Vec3,
+    dof: usize,
+}
+
+/// A coordinate a table spans, `q[dof] - coaxial * q[other]` over `lower .. lower + span`, along which
+/// the distance changes by at most `lipschitz` per unit.
+struct Coordinate {
+    dof: usize,
+    other: usize,
+    coaxial: f64,
+    lower: f64,
+    span: f64,
+    lipschitz: f64,
+}
+
+/// Whether pair `p` of `set` is a coaxial pair: each link turns on exactly one joint below the links'
+/// common ancestor (revolute or continuous, driven by its own DOF, the two DOFs distinct), and the two
+/// joints' axes lie on one line. Then the links' relative pose is the first joint's turn undone and
+/// the second's done about that line, a turn by `q_b - s q_a` (`s` = +-1 as the axes point the same
+/// way or opposite ways), so the distance depends on that coordinate alone, and changes per radian of
+/// it by at most either shape's reach about the line (turning one shape about the line, or the other
+/// back).
+fn coaxial(robot: &Robot, kinematics: &Kinematics, set: &PairSet, p: usize) -> Option<Coordinate> {
+    /// Axes this close to one line (unit vectors; metres) count as one: URDF origins and axes are
+    /// written as decimals, so a coaxial pair's cross products are rounding (about 1e-17).
+    const ON_LINE: f64 = 1e-12;
+    let (i, j) = set.pairs[p];
+    let (a, b) = (i as usize, j as usize);
+    let (la, lb) = (set.links[a], set.links[b]);
+    let joints: Vec<usize> = robot
+        .path_joints(la, lb)
+        .into_iter()
+        .filter(|&j| robot.joints[j].kind.is_actuated())
+        .collect();
+    let plain = |j: usize| {
+        let joint = &robot.joints[j];
+        joint.mimic.is_none() && matches!(joint.kind, JointKind::Revolute | JointKind::Continuous)
+    };
+    if joints.len() != 2 || !joints.iter().all(|&j| plain(j)) {
+        return None;
+    }
+    // Which joint turns which link, and the joints' axes at home, in the root frame.
+    let above_a = robot.path_joints(la, robot.root);
+    let (ja, jb) = match *joints.as_slice() {
+        [x, y] if above_a.contains(&x) && !above_a.contains(&y) => (x, y),
+        [x, y] if above_a.contains(&y) && !above_a.contains(&x) => (y, x),
+        _ => return None,
+    };
+    let poses = kinematics.link_poses(&kinematics.home());
+    let line = |j: usize| {
+        let joint = &robot.joints[j];
+        let frame = poses[joint.parent] * joint.origin;
+        let dof = kinematics.joint_dof(j)?;
+        Some(Line {
+            point: frame.translation,
+            axis: (frame.rotation * joint.axis).normalize_or_zero(),
+            dof,
+        })
+    };
+    let (ja, jb) = (line(ja)?, line(jb)?);
+    if ja.dof == jb.dof
+        || ja.axis == Vec3::ZERO
+        || ja.axis.cross(jb.axis).length() > ON_LINE
+        || (jb.point - ja.point).cross(ja.axis).length() > ON_LINE
+    {
+        return None;
+    }
+    let sign = ja.axis.dot(jb.axis).signum();
+    let (da, db) = (&kinematics.dofs()[ja.dof], &kinematics.dofs()[jb.dof]);
+    // sign * q_a runs over [min, max]; q_b - sign * q_a over [lower_b - max, upper_b - min].
+    let (x, y) = (sign * da.lower, sign * da.upper);
+    let lower = db.lower - x.max(y);
+    let span = db.upper - x.min(y) - lower;
+    let reach = |k: usize, link: usize| set.shapes[k].reach(&poses[link], ja.point, ja.axis);
+    Some(Coordinate {
+        dof: jb.dof,
+        other: ja.dof,
+        coaxial: sign,
+        lower,
+        span,
+        lipschitz: reach(a, la).min(reach(b, lb)),
     })
 }
 
