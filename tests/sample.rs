@@ -400,6 +400,35 @@ fn estimates_stay_within_their_documented_error_on_ur5e() {
     );
 }
 
+/// Checks that `table` (of pair `p` of set `s`) brackets the exact distance at `n` random
+/// configurations, and returns the widths of its brackets there.
+fn bracket_widths(
+    engine: &scm::sample::Engine,
+    (s, p): (usize, usize),
+    table: &scm::sample::Table,
+    rng: &mut scm::rng::Rng,
+    n: usize,
+) -> Vec<f64> {
+    let set = &engine.sets[s];
+    (0..n)
+        .map(|_| {
+            let mut q = Vec::new();
+            scm::robot::random_configuration(engine.kinematics.dofs(), rng, &mut q);
+            let d = engine.pair_distance(s, p, &q);
+            let (lower, upper) = table.bounds(&q);
+            // The exact query's own error is below 1e-6 m (tests/exactness.rs).
+            assert!(
+                lower <= d + 1e-6 && d <= upper + 1e-6,
+                "{} pair {:?} (rank {}): {d} outside [{lower}, {upper}]",
+                set.shape_type.id(),
+                set.pairs[p],
+                table.rank()
+            );
+            upper - lower
+        })
+        .collect()
+}
+
 /// b1's hips of one side turn about one line (parallel to the trunk's x axis through both hip joints),
 /// so a pair of them (or of the thigh rotors fixed to them) depends only on the hips' relative turn:
 /// its table spans that one coordinate, as fine as a one-DOF table, and still bounds the exact distance
@@ -427,19 +456,9 @@ fn coaxial_tables_bracket_the_exact_distance() {
             let (i, j) = set.pairs[p];
             let link = |k: u32| names[set.links[k as usize]];
             pairs.insert((link(i), link(j)));
-            for _ in 0..40 {
-                let mut q = Vec::new();
-                scm::robot::random_configuration(engine.kinematics.dofs(), &mut rng, &mut q);
-                let d = engine.pair_distance(s, p, &q);
-                let (lower, upper) = table.bounds(&q);
-                assert!(
-                    lower <= d + 1e-6 && d <= upper + 1e-6,
-                    "{} pair {:?}: {d} outside [{lower}, {upper}]",
-                    set.shape_type.id(),
-                    set.pairs[p]
-                );
+            for width in bracket_widths(&engine, (s, p), table, &mut rng, 40) {
                 checked += 1;
-                within += usize::from(upper - lower < 1e-3);
+                within += usize::from(width < 1e-3);
             }
         }
     }
@@ -477,25 +496,14 @@ fn tables_bracket_the_exact_distance() {
     // Per rank: checks, and bounds within 1 mm and 5 cm.
     let mut checked = [0usize; 2];
     let mut within = [[0usize; 2]; 2];
-    for (s, (set, tables)) in engine.sets.iter().zip(&engine.tables).enumerate() {
+    for (s, tables) in engine.tables.iter().enumerate() {
         for (p, table) in tables.iter().enumerate() {
             let Some(table) = table else { continue };
             let rank = table.rank();
-            for _ in 0..24 {
-                let mut q = Vec::new();
-                scm::robot::random_configuration(engine.kinematics.dofs(), &mut rng, &mut q);
-                let d = engine.pair_distance(s, p, &q);
-                let (lower, upper) = table.bounds(&q);
-                // The exact query's own error is below 1e-6 m (tests/exactness.rs).
-                assert!(
-                    lower <= d + 1e-6 && d <= upper + 1e-6,
-                    "{} pair {:?} ({rank} DOFs): {d} outside [{lower}, {upper}]",
-                    set.shape_type.id(),
-                    set.pairs[p]
-                );
+            for width in bracket_widths(&engine, (s, p), table, &mut rng, 24) {
                 checked[rank - 1] += 1;
-                within[rank - 1][0] += usize::from(upper - lower < 1e-3);
-                within[rank - 1][1] += usize::from(upper - lower < 5e-2);
+                within[rank - 1][0] += usize::from(width < 1e-3);
+                within[rank - 1][1] += usize::from(width < 5e-2);
             }
         }
     }

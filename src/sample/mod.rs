@@ -26,6 +26,7 @@ pub use records::{PairRecord, SampleFile, TypeSummary, Witness};
 pub use search::{SearchOutcome, SearchParams, SearchTarget, search_link_pair};
 pub use sets::{PairSet, PlacedPair};
 pub use stats::PairStats;
+pub use table::Table;
 pub use work::Work;
 
 use crate::error::{Error, Result};
