@@ -201,6 +201,14 @@ fn same_seed_same_bytes_at_any_thread_count_and_sharding() {
     assert_eq!(json["up_to_date"], true);
 }
 
+/// Writes the authored URDF `text` as `NAME.urdf` in a scratch folder and preprocesses it into the
+/// scratch URDD `NAME`.
+fn preprocessed_text(name: &str, text: &str) -> std::path::PathBuf {
+    let urdf = common::scratch(&format!("{name}-src")).join(format!("{name}.urdf"));
+    std::fs::write(&urdf, text).unwrap();
+    common::preprocessed(&urdf, name)
+}
+
 /// An arm whose thin blade passes a thin post only within ~0.7 mrad of its 6 rad range.
 const NARROW: &str = r#"<robot name="narrow">
   <link name="base"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
@@ -212,10 +220,7 @@ const NARROW: &str = r#"<robot name="narrow">
 
 #[test]
 fn targeted_search_finds_a_collision_random_sampling_misses() {
-    let dir = common::scratch("narrow-src");
-    let urdf = dir.join("narrow.urdf");
-    std::fs::write(&urdf, NARROW).unwrap();
-    let out = common::preprocessed(&urdf, "narrow");
+    let out = preprocessed_text("narrow", NARROW);
     let mut opts = SampleOptions::new(&out);
     opts.samples = 500;
     opts.types = vec![ShapeType::Obb];
@@ -499,10 +504,7 @@ const AXLE: &str = r#"<robot name="axle">
 /// (It fails with the relative turn taken as `q_b - q_a`.)
 #[test]
 fn opposite_coaxial_axes_turn_by_the_sum() {
-    let dir = common::scratch("axle-src");
-    let urdf = dir.join("axle.urdf");
-    std::fs::write(&urdf, AXLE).unwrap();
-    let out = common::preprocessed(&urdf, "axle");
+    let out = preprocessed_text("axle", AXLE);
     let engine = scm::sample::Engine::load(&Urdd::open(&out).unwrap(), &[ShapeType::Obb]).unwrap();
     let names: Vec<&str> = engine.robot.links.iter().map(|l| l.name.as_str()).collect();
     let mut rng = scm::rng::Rng::new(13, 0);

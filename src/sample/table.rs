@@ -13,7 +13,6 @@
 
 use super::sets::PairSet;
 use crate::collision::Hint;
-use crate::math::Vec3;
 use crate::robot::{JointKind, Kinematics, Robot};
 
 /// Most DOFs a table spans.
@@ -265,13 +264,6 @@ pub fn build(robot: &Robot, kinematics: &Kinematics, set: &PairSet, p: usize) ->
     })
 }
 
-/// A joint's axis line at home (root frame) and its DOF.
-struct Line {
-    point: Vec3,
-    axis: Vec3,
-    dof: usize,
-}
-
 /// A coordinate a table spans, `q[dof] - coaxial * q[other]` over `lower .. lower + span`, along which
 /// the distance changes by at most `lipschitz` per unit.
 struct Coordinate {
@@ -309,27 +301,14 @@ fn coaxial(robot: &Robot, kinematics: &Kinematics, set: &PairSet, p: usize) -> O
     if joints.len() != 2 || !joints.iter().all(|&j| plain(j)) {
         return None;
     }
-    // Which joint turns which link, and the joints' axes at home, in the root frame.
-    let above_a = robot.path_joints(la, robot.root);
-    let (ja, jb) = match *joints.as_slice() {
-        [x, y] if above_a.contains(&x) && !above_a.contains(&y) => (x, y),
-        [x, y] if above_a.contains(&y) && !above_a.contains(&x) => (y, x),
-        _ => return None,
+    // Each link's own joint, as an axis line in the links' common ancestor's frame.
+    let (mut side_a, mut side_b) = (Vec::new(), Vec::new());
+    let (pose_a, pose_b) =
+        kinematics.pair_path(&kinematics.home(), la, lb, &mut side_a, &mut side_b);
+    let ([ja], [jb]) = (side_a.as_slice(), side_b.as_slice()) else {
+        return None;
     };
-    let poses = kinematics.link_poses(&kinematics.home());
-    let line = |j: usize| {
-        let joint = &robot.joints[j];
-        let frame = poses[joint.parent] * joint.origin;
-        let dof = kinematics.joint_dof(j)?;
-        Some(Line {
-            point: frame.translation,
-            axis: (frame.rotation * joint.axis).normalize_or_zero(),
-            dof,
-        })
-    };
-    let (ja, jb) = (line(ja)?, line(jb)?);
     if ja.dof == jb.dof
-        || ja.axis == Vec3::ZERO
         || ja.axis.cross(jb.axis).length() > ON_LINE
         || (jb.point - ja.point).cross(ja.axis).length() > ON_LINE
     {
@@ -341,14 +320,14 @@ fn coaxial(robot: &Robot, kinematics: &Kinematics, set: &PairSet, p: usize) -> O
     let (x, y) = (sign * da.lower, sign * da.upper);
     let lower = db.lower - x.max(y);
     let span = db.upper - x.min(y) - lower;
-    let reach = |k: usize, link: usize| set.shapes[k].reach(&poses[link], ja.point, ja.axis);
+    let reach = |k: usize, pose| set.shapes[k].reach(pose, ja.point, ja.axis);
     Some(Coordinate {
         dof: jb.dof,
         other: ja.dof,
         coaxial: sign,
         lower,
         span,
-        lipschitz: reach(a, la).min(reach(b, lb)),
+        lipschitz: reach(a, &pose_a).min(reach(b, &pose_b)),
     })
 }
 
