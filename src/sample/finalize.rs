@@ -11,6 +11,7 @@ use crate::progress::Progress;
 use crate::urdd::FORMAT_VERSION;
 use rayon::prelude::*;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::sync::{Mutex, PoisonError};
 
 /// Samples of the pilot run that sizes each pair's exact-mean budget: the first samples of chunk 0.
 const PILOT: u64 = 256;
@@ -78,7 +79,9 @@ pub(super) fn mean_budgets(
 /// Runs the chunks in parallel. The first [`SCOUT`] samples go first, pair by pair (see
 /// [`Engine::scout`]), from the pilot's statistics; their statistics are chunk 0's, and prune every
 /// later chunk, which starts from empty accumulators (see [`Engine::run_chunk`]). Chunk results merge
-/// exactly in any order. Every shard runs the scout, and only the shard of chunk 0 keeps it.
+/// exactly in any order, each into the total as soon as it is done, so memory holds one accumulator
+/// per worker and the total, whatever the chunk count. Every shard runs the scout, and only the shard
+/// of chunk 0 keeps it.
 pub(super) fn accumulate(
     engine: &Engine,
     opts: &SampleOptions,
@@ -109,34 +112,35 @@ pub(super) fn accumulate(
     let tethers = engine.tethers(opts.seed, scouted, &known);
     run.known = &known;
     run.tethers = &tethers;
-    let merge = |mut a: Vec<Vec<PairStats>>, b: &[Vec<PairStats>]| {
-        for (x, y) in a.iter_mut().zip(b) {
+    // One running total, and per worker one chunk's accumulator and scratch: a chunk's statistics are
+    // merged in as soon as it is done (they merge exactly in any order), so memory holds the workers'
+    // accumulators, not one per piece of work rayon splits the chunks into.
+    let total = Mutex::new(empty());
+    let add = |chunk: &[Vec<PairStats>]| {
+        // Merging cannot panic, and a panic anywhere else ends the run before the total is used, so
+        // a poisoned lock never hands on a half-merged total that is read.
+        let mut total = total.lock().unwrap_or_else(PoisonError::into_inner);
+        for (x, y) in total.iter_mut().zip(chunk) {
             x.iter_mut().zip(y).for_each(|(s, o)| s.merge(o));
         }
-        a
     };
-    chunks
-        .par_iter()
-        .fold(
-            || (empty(), empty(), engine::ChunkScratch::default()),
-            |(total, mut chunk, mut scratch), &c| {
-                if c * CHUNK < scouted {
-                    // The scout's samples: chunk 0 carries all of them.
-                    if c == 0 {
-                        chunk.clone_from_slice(&known);
-                    } else {
-                        chunk.iter_mut().for_each(|v| v.fill(PairStats::default()));
-                    }
-                } else {
-                    chunk.iter_mut().for_each(|v| v.fill(PairStats::default()));
-                    engine.run_chunk(&run, c, &mut chunk, &mut scratch);
+    chunks.par_iter().for_each_init(
+        || (empty(), engine::ChunkScratch::default()),
+        |(chunk, scratch), &c| {
+            if c * CHUNK < scouted {
+                // The scout's samples: chunk 0 carries all of them.
+                if c == 0 {
+                    add(&known);
                 }
-                progress.advance(CHUNK.min(opts.samples - c * CHUNK));
-                (merge(total, &chunk), chunk, scratch)
-            },
-        )
-        .map(|(total, _, _)| total)
-        .reduce(empty, |a, b| merge(a, &b))
+            } else {
+                chunk.iter_mut().for_each(|v| v.fill(PairStats::default()));
+                engine.run_chunk(&run, c, chunk, scratch);
+                add(chunk);
+            }
+            progress.advance(CHUNK.min(opts.samples - c * CHUNK));
+        },
+    );
+    total.into_inner().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// Rigid pairs, home distances, reasons, witnesses and the targeted search: from exact accumulators to files.
