@@ -531,9 +531,7 @@ fn write_stage(
     for f in files {
         let name = sample_file_name(f.shape_type);
         // Compact JSON: the pair lists of decomposition types are large.
-        let mut bytes = compact_json(&name, f)?;
-        bytes.push(b'\n');
-        stage.write(&name, &bytes)?;
+        stage.write_json(&name, f)?;
         outputs.push(name);
     }
     stage.write(MESH_FILE, &json_bytes(MESH_FILE, mesh)?)?;

@@ -80,7 +80,8 @@ pub fn compact_json<T: Serialize>(what: &str, value: &T) -> Result<Vec<u8>> {
     serde_json::to_vec(value).map_err(|e| json_error(what, e))
 }
 
-fn json_error(what: &str, e: serde_json::Error) -> Error {
+/// The error of `what` JSON could not hold.
+pub(super) fn json_error(what: &str, e: serde_json::Error) -> Error {
     Error::Failed {
         context: what.to_string(),
         message: format!("cannot be written as JSON: {e}"),

@@ -20,7 +20,9 @@ pub use layout::{
     SAMPLE, SHARDS, USER_FILE, compact_json, json_value, parameters, sample_file_name,
     shape_file_name, stage_key,
 };
-pub use manifest::{FORMAT_VERSION, InputFile, Manifest, StageRecord, Stamp, sha256_hex};
+pub use manifest::{
+    FORMAT_VERSION, InputFile, Manifest, StageRecord, Stamp, sha256_file, sha256_hex,
+};
 pub use obj::{from_obj, to_obj};
 pub use records::{GeometryRecord, LinkRecord, RobotRecord, ShapeFile, ShapeRecord};
 pub use shapes::TypeShapes;
@@ -193,8 +195,7 @@ impl Urdd {
                         stamp.bytes
                     ));
                 }
-                let bytes = std::fs::read(&path).ok()?;
-                (sha256_hex(&bytes) != stamp.sha256)
+                (sha256_file(&path).ok()?.1 != stamp.sha256)
                     .then(|| format!("{shown} changed since it was written"))
             })
             .collect()
@@ -217,14 +218,8 @@ impl Urdd {
             .par_iter()
             .map(|o| {
                 let path = folder.join(o);
-                let bytes = std::fs::read(&path).map_err(|e| Error::io(&path, e))?;
-                Ok((
-                    o.clone(),
-                    Stamp {
-                        bytes: bytes.len() as u64,
-                        sha256: sha256_hex(&bytes),
-                    },
-                ))
+                let (bytes, sha256) = sha256_file(&path).map_err(|e| Error::io(&path, e))?;
+                Ok((o.clone(), Stamp { bytes, sha256 }))
             })
             .collect::<Result<_>>()?;
         self.manifest.robot = robot.to_string();

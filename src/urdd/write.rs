@@ -78,6 +78,27 @@ impl StageDir {
         std::fs::write(&path, bytes).map_err(|e| Error::io(&path, e))
     }
 
+    /// Writes `value` as compact JSON with a final newline at `relative` inside the stage folder,
+    /// serialised straight into the file (a decomposition type's pair list is tens of MB). A value
+    /// JSON cannot hold is an error naming `relative`; the stage is then not committed, so no file
+    /// of it is ever read half written.
+    pub fn write_json<T: serde::Serialize>(&self, relative: &str, value: &T) -> Result<()> {
+        use std::io::Write;
+        let path = self.tmp.join(relative);
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        }
+        let file = std::fs::File::create(&path).map_err(|e| Error::io(&path, e))?;
+        let mut out = std::io::BufWriter::with_capacity(1 << 16, file);
+        serde_json::to_writer(&mut out, value).map_err(|e| match e.io_error_kind() {
+            Some(_) => Error::io(&path, e.into()),
+            None => super::layout::json_error(relative, e),
+        })?;
+        out.write_all(b"\n")
+            .and_then(|()| out.flush())
+            .map_err(|e| Error::io(&path, e))
+    }
+
     /// Replaces the old folder with the new one: the old one is renamed aside (a name of this process's
     /// own), the new one renamed in, the old one removed. A kill between the two renames leaves the
     /// target missing and the old folder beside it; [`recover`] puts it back on the next run or read.
@@ -190,8 +211,41 @@ impl Drop for StageDir {
 
 #[cfg(test)]
 mod json_tests {
-    use super::json_bytes;
+    use super::{StageDir, json_bytes};
+    use crate::urdd::{compact_json, sha256_file, sha256_hex};
     use std::collections::BTreeMap;
+
+    #[test]
+    fn stage_json_is_streamed_as_the_compact_bytes_and_hashed_as_they_are() {
+        let root = std::env::temp_dir().join(format!("scm-write-json-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        let target = root.join("sample");
+        // Larger than the hash's read buffer, so the file is hashed in several pieces.
+        let value: Vec<f64> = (0..40_000).map(|i| f64::from(i) / 7.0).collect();
+        let stage = StageDir::create(&target).unwrap();
+        stage.write_json("big.json", &value).unwrap();
+        stage.commit().unwrap();
+        let mut expected = compact_json("big.json", &value).unwrap();
+        expected.push(b'\n');
+        let written = std::fs::read(target.join("big.json")).unwrap();
+        assert!(written.len() > 1 << 17, "{} bytes", written.len());
+        assert_eq!(written, expected);
+        let (len, hash) = sha256_file(&target.join("big.json")).unwrap();
+        assert_eq!((len, hash), (expected.len() as u64, sha256_hex(&expected)));
+
+        // A value JSON cannot hold names its file, and the output already there stays as it was.
+        let stage = StageDir::create(&target).unwrap();
+        let bad: BTreeMap<(u8, u8), u8> = [((1, 2), 3)].into();
+        let err = stage.write_json("bad.json", &bad).unwrap_err().to_string();
+        assert!(
+            err.starts_with("bad.json: cannot be written as JSON"),
+            "{err}"
+        );
+        drop(stage);
+        assert_eq!(std::fs::read(target.join("big.json")).unwrap(), expected);
+        assert!(!target.join("bad.json").exists());
+        std::fs::remove_dir_all(&root).unwrap();
+    }
 
     #[test]
     fn a_value_json_cannot_hold_names_its_file() {
