@@ -314,3 +314,30 @@ fn the_exact_geometry_certifies_where_the_hulls_touch() {
         Status::Budget
     );
 }
+
+#[test]
+fn dropping_boxes_the_budget_cannot_reach_keeps_the_pop_order() {
+    // Boxes with distinct and with tied lower bounds (ties break by centre).
+    let boxes = || {
+        let mut rng = Rng::new(7, 0);
+        (0..500)
+            .map(|i| SubBox {
+                center: vec![rng.range(-1.0, 1.0), f64::from(i)],
+                half: vec![0.5, 0.5],
+                volume: 1.0,
+                lower: (rng.unit() * 20.0).round() / 20.0,
+                split: 0,
+                reaches: Vec::new(),
+            })
+            .collect::<BinaryHeap<SubBox>>()
+    };
+    let order = |mut heap: BinaryHeap<SubBox>| {
+        std::iter::from_fn(|| heap.pop().map(|b| (b.lower, b.center[1]))).collect::<Vec<_>>()
+    };
+    let all = order(boxes());
+    for keep in [0, 1, 37, 499, 500, 800] {
+        let mut kept = boxes();
+        keep_first(&mut kept, keep);
+        assert_eq!(order(kept), all[..keep.min(500)], "keep {keep}");
+    }
+}
