@@ -71,11 +71,17 @@ impl StageDir {
 
     /// Writes `bytes` at `relative` inside the stage folder.
     pub fn write(&self, relative: &str, bytes: &[u8]) -> Result<()> {
+        let path = self.file(relative)?;
+        std::fs::write(&path, bytes).map_err(|e| Error::io(&path, e))
+    }
+
+    /// The path of `relative` inside the stage folder, its folder created.
+    fn file(&self, relative: &str) -> Result<PathBuf> {
         let path = self.tmp.join(relative);
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         }
-        std::fs::write(&path, bytes).map_err(|e| Error::io(&path, e))
+        Ok(path)
     }
 
     /// Writes `value` as compact JSON with a final newline at `relative` inside the stage folder,
@@ -84,10 +90,7 @@ impl StageDir {
     /// of it is ever read half written.
     pub fn write_json<T: serde::Serialize>(&self, relative: &str, value: &T) -> Result<()> {
         use std::io::Write;
-        let path = self.tmp.join(relative);
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        }
+        let path = self.file(relative)?;
         let file = std::fs::File::create(&path).map_err(|e| Error::io(&path, e))?;
         let mut out = std::io::BufWriter::with_capacity(1 << 16, file);
         serde_json::to_writer(&mut out, value).map_err(|e| match e.io_error_kind() {
