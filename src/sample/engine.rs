@@ -379,10 +379,16 @@ impl Engine {
         let (outer, inner) = (&block.outer[s], &block.inner[s]);
         let (oa, ob) = (&outer[i * n..(i + 1) * n], &outer[j * n..(j + 1) * n]);
         let (ia, ib) = (&inner[i * n..(i + 1) * n], &inner[j * n..(j + 1) * n]);
+        // The table's lookups land anywhere in it, and a large robot's tables leave the cache between
+        // blocks: its lines are asked for now and arrive while the sphere bounds are computed.
+        let table = self.tables[s][p].as_ref();
+        if let Some(t) = table {
+            t.prefetch();
+        }
         for (kk, out) in out.iter_mut().enumerate() {
             *out = sphere_bounds(a, oa[kk], ia[kk], b, ob[kk], ib[kk]);
         }
-        if let Some(t) = &self.tables[s][p] {
+        if let Some(t) = table {
             t.tighten(&block.q, self.kinematics.dofs().len(), out);
         }
     }

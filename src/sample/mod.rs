@@ -10,6 +10,7 @@ mod certify;
 mod engine;
 mod finalize;
 mod mesh;
+mod prefetch;
 mod reasons;
 mod records;
 mod search;

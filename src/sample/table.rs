@@ -87,6 +87,13 @@ impl Table {
         out[0]
     }
 
+    /// Starts bringing the table's values into cache (see [`super::prefetch`]): a block's lookups land
+    /// anywhere in the table.
+    #[inline]
+    pub fn prefetch(&self) {
+        super::prefetch::prefetch(&self.values);
+    }
+
     /// [`Table::bounds`] for a block of samples: tightens `out`'s lower and upper bounds at every
     /// sample, `q` holding one row of `dofs` values per element of `out`.
     #[inline]
