@@ -227,8 +227,21 @@ impl ExactLink {
     /// A lower bound on the distance between the links (0 where they overlap): the least distance between
     /// their parts (parry's, exact for primitives, between triangles for meshes).
     pub fn distance(&self, pa: &Pose, other: &ExactLink, pb: &Pose) -> f64 {
+        self.distance_above(pa, other, pb, f64::NEG_INFINITY)
+            .unwrap_or(0.0)
+    }
+
+    /// [`ExactLink::distance`] where it exceeds `enough`; `None` (sooner) where it is at most `enough`,
+    /// for a caller with no use for such a distance.
+    pub fn distance_above(
+        &self,
+        pa: &Pose,
+        other: &ExactLink,
+        pb: &Pose,
+        enough: f64,
+    ) -> Option<f64> {
         if self.encloses(pa, other, pb) {
-            return 0.0;
+            return (0.0 > enough).then_some(0.0);
         }
         let mut best = f64::INFINITY;
         for a in &self.parts {
@@ -244,16 +257,19 @@ impl ExactLink {
                 let (qa, qb) = (*pa * a.pose, *pb * b.pose);
                 let meshes = (a.shape.as_trimesh(), b.shape.as_trimesh());
                 let d = if let (Some(ma), Some(mb)) = meshes {
-                    mesh_distance(ma, &qa, mb, &qb)
+                    mesh_distance(ma, &qa, mb, &qb, enough)
                 } else {
                     // An unsupported pairing could be touching: 0 is the safe bound.
                     query::distance(&qa, a.shape.as_ref(), &qb, b.shape.as_ref())
                         .map_or(0.0, |r| r.distance)
                 };
                 best = best.min(d.max(0.0));
+                if best <= enough {
+                    return None;
+                }
             }
         }
-        best
+        Some(best)
     }
 
     /// Whether a part of `self` lies inside a mesh part of `other`, given that they do not touch: then
@@ -373,6 +389,15 @@ mod tests {
         assert_eq!(big.distance(&home, &small, &at(0.3)), 0.0);
         assert_eq!(big.distance(&home, &small, &at(1.0)), 0.0);
         assert!((big.distance(&home, &small, &at(1.2)) - 0.1).abs() < 1e-9);
+        // Above a caller's `enough`, the same distance; at or below it, none.
+        let d = big.distance(&home, &small, &at(1.2));
+        assert_eq!(big.distance_above(&home, &small, &at(1.2), 0.05), Some(d));
+        assert_eq!(
+            big.distance_above(&home, &small, &at(1.2), 0.1 + 1e-6),
+            None
+        );
+        assert_eq!(big.distance_above(&home, &small, &at(0.3), -1.0), Some(0.0));
+        assert_eq!(big.distance_above(&home, &small, &at(0.3), 0.0), None);
     }
 
     #[test]

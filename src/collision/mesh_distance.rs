@@ -17,8 +17,10 @@ use parry3d_f64::shape::TriMesh;
 use std::cell::Cell;
 
 /// The least distance between a triangle of `a` (posed at `pa`) and one of `b` (at `pb`): 0 where two
-/// triangles meet.
-pub(super) fn mesh_distance(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose) -> f64 {
+/// triangles meet. A caller with no use for a distance at or below `enough` gets one as soon as the
+/// walk meets it: then the value returned is only known to be at most `enough` (two points that far
+/// apart); above `enough` it is the least distance (`f64::NEG_INFINITY`: always).
+pub(super) fn mesh_distance(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose, enough: f64) -> f64 {
     // Everything in `a`'s frame.
     let pos12 = pa.inv_mul(pb);
     let turn = Turn::new(&pos12);
@@ -36,6 +38,9 @@ pub(super) fn mesh_distance(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose) -> f
         (Some(va), Some(vb)) => va.distance(pos12.transform_point(vb)),
         _ => f64::INFINITY,
     };
+    if seed <= enough {
+        return seed;
+    }
     let best = Cell::new(seed);
     // Boxes are kept while they could hold a closer triangle pair than the best (with a margin far
     // below the triangle queries' own tolerance, against the rounding of the boxes).
@@ -53,7 +58,7 @@ pub(super) fn mesh_distance(a: &TriMesh, pa: &Pose, b: &TriMesh, pb: &Pose) -> f
             .map_or(0.0, |r| r.distance);
         if d < best.get() {
             best.set(d.max(0.0));
-            if d <= 0.0 {
+            if d <= 0.0 || best.get() <= enough {
                 break;
             }
         }
@@ -133,7 +138,7 @@ mod tests {
         let (mut apart, mut meeting) = (0, 0);
         for _ in 0..300 {
             let (pa, pb) = (link(&mut r), link(&mut r));
-            let ours = mesh_distance(&a, &pa, &b, &pb);
+            let ours = mesh_distance(&a, &pa, &b, &pb, f64::NEG_INFINITY);
             let parry = query::distance(&pa, &a, &pb, &b)
                 .expect("meshes are supported")
                 .distance;
@@ -149,5 +154,32 @@ mod tests {
             apart > 50 && meeting > 10,
             "apart {apart}, meeting {meeting}"
         );
+    }
+
+    /// A caller's `enough` changes nothing above it (the same distance, to the bit) and, at or below
+    /// it, returns a distance at most `enough` that is still at least the least one.
+    #[test]
+    fn stopping_at_enough_keeps_every_distance_above_it() {
+        let (a, b) = (torus(0.2, 0.05, 32), torus(0.12, 0.03, 24));
+        let mut r = values(11);
+        let (mut above, mut below) = (0, 0);
+        for _ in 0..300 {
+            let (pa, pb) = (link(&mut r), link(&mut r));
+            let least = mesh_distance(&a, &pa, &b, &pb, f64::NEG_INFINITY);
+            if least <= 0.0 {
+                continue;
+            }
+            for enough in [least.next_down(), 0.5 * least, -1.0] {
+                let d = mesh_distance(&a, &pa, &b, &pb, enough);
+                assert_eq!(d.to_bits(), least.to_bits(), "{enough} below {least}");
+                above += 1;
+            }
+            for enough in [least, 1.001 * least, 2.0 * least, 10.0] {
+                let d = mesh_distance(&a, &pa, &b, &pb, enough);
+                assert!(least <= d && d <= enough, "{d} for {enough}, least {least}");
+                below += 1;
+            }
+        }
+        assert!(above > 150 && below > 200, "above {above}, below {below}");
     }
 }

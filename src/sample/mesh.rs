@@ -436,7 +436,7 @@ impl Context<'_> {
     fn certificate(&self, (a, b): (usize, usize), budget: u64) -> Certificate {
         let (hull_a, hull_b) = self.hull_pair(a, b);
         let (la, lb) = self.links(a, b);
-        let exact = |pa: &Pose, pb: &Pose| la.distance(pa, lb, pb);
+        let exact = |pa: &Pose, pb: &Pose, enough: f64| la.distance_above(pa, lb, pb, enough);
         let mut pair = PairGeometry {
             kinematics: &self.engine.kinematics,
             link_a: a,

@@ -90,8 +90,10 @@ pub struct Certificate {
     pub exact_queries: u64,
 }
 
-/// A lower bound on the distance between two links' exact geometry, given their poses.
-pub type ExactDistance<'a> = dyn Fn(&Pose, &Pose) -> f64 + Sync + 'a;
+/// A lower bound on the distance between two links' exact geometry, given their poses, where it exceeds
+/// the third argument; `None` where it is at most that (the search then has no use for its value, and
+/// the query may stop sooner).
+pub type ExactDistance<'a> = dyn Fn(&Pose, &Pose, f64) -> Option<f64> + Sync + 'a;
 
 /// One link pair to certify: its links, their hulls and where the other DOFs rest.
 pub struct PairGeometry<'a> {
@@ -179,7 +181,18 @@ impl Evaluation {
         let (Some(exact), Some((pa, pb, whole))) = (exact, &self.ask) else {
             return;
         };
-        let bound = exact(pa, pb) - whole.iter().sum::<f64>();
+        // Only a distance whose bound beats the hulls' is taken: one at most `enough` could not (the
+        // subtraction is monotone, and `enough` is stepped down until it rounds to the hulls' bound or
+        // below), so the query need not find how far below `enough` it lies.
+        let moved = whole.iter().sum::<f64>();
+        let mut enough = self.lower + moved;
+        while enough - moved > self.lower {
+            enough = enough.next_down();
+        }
+        let Some(distance) = exact(pa, pb, enough) else {
+            return;
+        };
+        let bound = distance - moved;
         if bound > self.lower {
             self.lower = bound;
             self.weights = whole.clone();

@@ -287,14 +287,15 @@ fn the_exact_geometry_certifies_where_the_hulls_touch() {
         ball(Vec3::new(1.0, 0.0, 0.0), 0.1),
         ball(Vec3::new(2.0, 0.0, 0.0), 0.5),
     );
-    let exact = |pa: &Pose, pb: &Pose| {
-        signed_distance(
+    let exact = |pa: &Pose, pb: &Pose, enough: f64| {
+        let d = signed_distance(
             &inner_fixed,
             &inner_fixed.pose(pa),
             &inner_moving,
             &inner_moving.pose(pb),
         )
-        .max(0.0)
+        .max(0.0);
+        (d > enough).then_some(d)
     };
     let base = k.home();
     let mut pair = hulls(&k, (0, &fixed), (1, &moving), &base);
