@@ -128,16 +128,22 @@ mod tests {
         TriMesh::new(vertices, triangles).expect("a torus is a valid mesh")
     }
 
-    /// Over random poses (linked, nested, touching and apart), the distance is parry's mesh-mesh
-    /// distance: the same least triangle-pair query, found without walking every pair (the same to
-    /// rounding: the first bound is a vertex pair's distance, which can be the answer).
+    /// Two tori of different sizes and 300 random pose pairs for them (linked, nested, touching and
+    /// apart), drawn from `seed`.
+    fn tori_posed(seed: u64) -> (TriMesh, TriMesh, Vec<(Pose, Pose)>) {
+        let mut r = values(seed);
+        let poses = (0..300).map(|_| (link(&mut r), link(&mut r))).collect();
+        (torus(0.2, 0.05, 32), torus(0.12, 0.03, 24), poses)
+    }
+
+    /// Over random poses, the distance is parry's mesh-mesh distance: the same least triangle-pair
+    /// query, found without walking every pair (the same to rounding: the first bound is a vertex
+    /// pair's distance, which can be the answer).
     #[test]
     fn equals_parrys_mesh_distance() {
-        let (a, b) = (torus(0.2, 0.05, 32), torus(0.12, 0.03, 24));
-        let mut r = values(7);
+        let (a, b, poses) = tori_posed(7);
         let (mut apart, mut meeting) = (0, 0);
-        for _ in 0..300 {
-            let (pa, pb) = (link(&mut r), link(&mut r));
+        for (pa, pb) in poses {
             let ours = mesh_distance(&a, &pa, &b, &pb, f64::NEG_INFINITY);
             let parry = query::distance(&pa, &a, &pb, &b)
                 .expect("meshes are supported")
@@ -160,11 +166,9 @@ mod tests {
     /// it, returns a distance at most `enough` that is still at least the least one.
     #[test]
     fn stopping_at_enough_keeps_every_distance_above_it() {
-        let (a, b) = (torus(0.2, 0.05, 32), torus(0.12, 0.03, 24));
-        let mut r = values(11);
+        let (a, b, poses) = tori_posed(11);
         let (mut above, mut below) = (0, 0);
-        for _ in 0..300 {
-            let (pa, pb) = (link(&mut r), link(&mut r));
+        for (pa, pb) in poses {
             let least = mesh_distance(&a, &pa, &b, &pb, f64::NEG_INFINITY);
             if least <= 0.0 {
                 continue;
