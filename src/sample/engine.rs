@@ -206,13 +206,13 @@ impl Engine {
             .collect()
     }
 
-    /// Continues `stats` (statistics of samples `0..start` per set and pair, `start` a multiple of the
-    /// block length) through samples `start..end`, every pair running through them in order with its
-    /// own hint, in parallel over pairs: a chunk's work, but with the extremes and hints of all the
-    /// samples before, so the extremes it ends with are close to the run's and prune every later chunk
-    /// (see [`ChunkRun::known`]). `run.known` is not used; `run.tethers` is.
+    /// Continues `stats` (statistics of samples `0..start` per set and pair) through samples
+    /// `start..end`, every pair running through them in order with its own hint, in parallel over
+    /// pairs: a chunk's work, but with the extremes and hints of all the samples before, so the
+    /// extremes it ends with are close to the run's and prune every later chunk (see
+    /// [`ChunkRun::known`]). `run.known` is not used; `run.tethers` is. Its blocks start at `start`
+    /// (every run places the same ones: the caller's `start` is fixed).
     pub fn scout(&self, run: &ChunkRun, start: u64, end: u64, stats: &mut [Vec<PairStats>]) {
-        debug_assert_eq!(start % BLOCK as u64, 0);
         let mut hints: Vec<Vec<Hint>> = self
             .sets
             .iter()
@@ -223,8 +223,9 @@ impl Engine {
             let mut rng = Rng::new(run.seed, chunk);
             let (mut at, last) = (chunk * CHUNK, ((chunk + 1) * CHUNK).min(end));
             while at < last {
-                let len = (last - at).min(BLOCK as u64) as usize;
+                let mut len = (last - at).min(BLOCK as u64) as usize;
                 if at < start {
+                    len = len.min((start - at) as usize);
                     (0..len).for_each(|_| {
                         random_configuration(self.kinematics.dofs(), &mut rng, &mut skipped)
                     });

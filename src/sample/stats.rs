@@ -117,8 +117,8 @@ impl PairStats {
     }
 
     /// [`PairStats::observe_bound`] for a block of samples at once: summed in f64, in order, and the
-    /// sum added in fixed point. Every run places the same blocks (aligned to the block length within
-    /// each chunk), so the sum, and with it the merged total, is the same in any run; it differs
+    /// sum added in fixed point. Every run places the same blocks (the pilot's and the scout's, then
+    /// aligned to the block length within each chunk), so the sum, and with it the merged total, is the same in any run; it differs
     /// from adding each bound in fixed point by rounding alone (below 1e-15 m per sample).
     #[inline]
     pub fn observe_bounds(&mut self, bounds: impl ExactSizeIterator<Item = f64>) {
