@@ -31,13 +31,35 @@ fn variance_margin(n: u64) -> f64 {
     k / (k * (1.0 - c + z * c.sqrt()).powi(3))
 }
 
+/// Up to this many exact samples a pair's budget takes the pilot's [`variance_margin`]; a pair that
+/// needs more gets what the spread it showed asks for, and at least this many, as every pair did when
+/// the pilot itself was this long. So the short pilot saves the pairs that need few samples most of
+/// their exact queries, and does not cost the pairs that need many more of them (the link-level
+/// types on the small arms, whose budgets run into the thousands).
+const MARGIN_UP_TO: u64 = 256;
+
+/// The exact-mean budget of a pair that the pilot's spread says `needed` samples would bring within
+/// 1% at 3 sigma (infinite for a zero mean), under the cap of `cap` (more than [`PILOT`]) of a run
+/// of `samples`: with the margin where that stays within [`MARGIN_UP_TO`], else as seen and at least
+/// that many; a pair the cap cannot bring within 1% gets every sample (an exact mean).
+fn budget(needed: f64, margin: f64, cap: u64, samples: u64) -> u64 {
+    let with_margin = needed * margin;
+    if with_margin <= MARGIN_UP_TO as f64 && with_margin <= cap as f64 {
+        (with_margin.ceil() as u64).max(PILOT)
+    } else if with_margin <= MARGIN_UP_TO as f64 || needed > cap as f64 {
+        samples
+    } else {
+        (needed.ceil() as u64).max(MARGIN_UP_TO).min(cap)
+    }
+}
+
 /// Samples of the scout run (see [`Engine::scout`]): the first chunks, whose extremes prune the others.
 const SCOUT: u64 = 16 * CHUNK;
 
 /// The pilot's statistics (samples `0..PILOT`, exact for every pair: [`Engine::scout`] with that
 /// budget) and, per pair, how many leading samples enter its
 /// mean estimate exactly: enough for a 3-sigma error under 1% of the mean (residual spread after the
-/// control bound, judged from the pilot with its [`variance_margin`]), at least [`PILOT`]; a pair that would need more than
+/// control bound, judged from the pilot: see [`budget`]), at least [`PILOT`]; a pair that would need more than
 /// `opts.mean_samples` gets every sample, so its mean is exact. No pilot runs (empty statistics) when
 /// the cap is [`PILOT`] or less, or is [`EXACT_MEAN`]: every pair then gets the cap (every sample,
 /// an exact mean, for [`EXACT_MEAN`]).
@@ -75,16 +97,11 @@ pub(super) fn mean_budgets(
                 .map(|st| {
                     let (mean, std) = (st.mean().abs(), st.std());
                     let needed = if mean > 0.0 {
-                        ((3.0 * std / (0.01 * mean)).powi(2) * margin).ceil()
+                        (3.0 * std / (0.01 * mean)).powi(2)
                     } else {
                         f64::INFINITY
                     };
-                    // A pair the cap cannot bring within 1% gets every sample (an exact mean).
-                    if needed > cap as f64 {
-                        opts.samples
-                    } else {
-                        (needed as u64).clamp(PILOT, cap)
-                    }
+                    budget(needed, margin, cap, opts.samples)
                 })
                 .collect()
         })
@@ -334,7 +351,7 @@ fn search(engine: &Engine, opts: &SampleOptions, records: &mut [Vec<(PairRecord,
 
 #[cfg(test)]
 mod tests {
-    use super::variance_margin;
+    use super::{MARGIN_UP_TO, PILOT, budget, variance_margin};
 
     #[test]
     fn the_variance_margin_follows_the_chi_square_tables() {
@@ -350,5 +367,23 @@ mod tests {
         // The pilot's: over a third more samples than its spread alone asks for, and less with more.
         assert!((1.3..1.45).contains(&variance_margin(64)));
         assert!(variance_margin(1000) < variance_margin(64));
+    }
+
+    #[test]
+    fn budgets_take_the_margin_only_where_few_samples_are_needed() {
+        let (margin, cap, samples) = (variance_margin(PILOT), 25_000, 100_000);
+        assert_eq!(budget(3.0, margin, cap, samples), PILOT);
+        assert_eq!(budget(100.0, margin, cap, samples), 138);
+        // Past the margin's reach: the need as seen, but never below MARGIN_UP_TO.
+        assert_eq!(budget(200.0, margin, cap, samples), MARGIN_UP_TO);
+        assert_eq!(budget(5_000.2, margin, cap, samples), 5_001);
+        // Beyond the cap, every sample: an exact mean; so too for a zero mean.
+        assert_eq!(budget(24_000.0, margin, cap, samples), 24_000);
+        assert_eq!(budget(25_001.0, margin, cap, samples), samples);
+        assert_eq!(budget(f64::INFINITY, margin, cap, samples), samples);
+        // Under a cap below MARGIN_UP_TO, a need (with the margin) above it asks for every sample.
+        assert_eq!(budget(50.0, margin, 100, 1_000), 69);
+        assert_eq!(budget(90.0, margin, 100, 1_000), 1_000);
+        assert_eq!(budget(150.0, margin, 200, 1_000), 1_000);
     }
 }
