@@ -28,7 +28,8 @@ fn variance_margin(n: u64) -> f64 {
     // The 5% quantile of the standard normal.
     let z = -1.644_853_626_951_472_2;
     let c = 2.0 / (9.0 * k);
-    k / (k * (1.0 - c + z * c.sqrt()).powi(3))
+    let quantile = k * (1.0 - c + z * c.sqrt()).powi(3);
+    k / quantile
 }
 
 /// Up to this many exact samples a pair's budget takes the pilot's [`variance_margin`]; a pair that
@@ -57,10 +58,10 @@ fn budget(needed: f64, margin: f64, cap: u64, samples: u64) -> u64 {
 const SCOUT: u64 = 16 * CHUNK;
 
 /// The pilot's statistics (samples `0..PILOT`, exact for every pair: [`Engine::scout`] with that
-/// budget) and, per pair, how many leading samples enter its
-/// mean estimate exactly: enough for a 3-sigma error under 1% of the mean (residual spread after the
-/// control bound, judged from the pilot: see [`budget`]), at least [`PILOT`]; a pair that would need more than
-/// `opts.mean_samples` gets every sample, so its mean is exact. No pilot runs (empty statistics) when
+/// budget) and, per pair, how many leading samples enter its mean estimate exactly: enough for a
+/// 3-sigma error under 1% of the mean (residual spread after the control bound, judged from the
+/// pilot: see [`budget`]), at least [`PILOT`]; a pair that would need more than `opts.mean_samples`
+/// gets every sample, so its mean is exact. No pilot runs (empty statistics) when
 /// the cap is [`PILOT`] or less, or is [`EXACT_MEAN`]: every pair then gets the cap (every sample,
 /// an exact mean, for [`EXACT_MEAN`]).
 /// Depends only on the seed and the robot, so every thread count and shard gets the same budgets.
