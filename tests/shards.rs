@@ -151,7 +151,7 @@ fn four_shards_through_xargs_merge_into_the_bytes_of_one_run() {
         }
         let shard: serde_json::Value = serde_json::from_str(&text).unwrap();
         assert_eq!(shard["format"], "scm-sample-shard");
-        assert_eq!(shard["format_version"], 3);
+        assert_eq!(shard["format_version"], 4);
         assert_eq!(shard["tool_version"], env!("CARGO_PKG_VERSION"));
         assert_eq!(shard["robot"], "demo_arm");
         assert_eq!(shard["preprocess"], manifest["stages"]["preprocess"]["key"]);

@@ -150,8 +150,9 @@ pub struct SampleReport {
 const SHARD_FORMAT: &str = "scm-sample-shard";
 /// The version of the shard file format, raised when a field changes meaning (2: the mean's control
 /// sums are taken from 16-bit distance tables, so they do not merge with version 1's; 3: coaxial
-/// pairs' tables span their relative turn, so their control sums differ from version 2's).
-const SHARD_FORMAT_VERSION: u32 = 3;
+/// pairs' tables span their relative turn, so their control sums differ from version 2's; 4: pairs of
+/// spheres sum their control in four running sums, and their extremes are exact).
+const SHARD_FORMAT_VERSION: u32 = 4;
 
 /// A shard's partial result, self-contained so a scheduler can ship it: everything the merge checks it
 /// against (no paths, nothing of the machine it ran on) and the exact accumulators of its chunks.

@@ -126,6 +126,14 @@ impl PairStats {
         self.bound_sum += fixed(bounds.sum::<f64>());
     }
 
+    /// Adds `count` samples whose control bounds sum to `sum` (in f64, in an order every run keeps;
+    /// see [`PairStats::observe_bounds`]).
+    #[inline]
+    pub fn observe_bound_sum(&mut self, count: u64, sum: f64) {
+        self.bound_count += count;
+        self.bound_sum += fixed(sum);
+    }
+
     /// Adds an exact distance `d` at a sample whose control bound is `bound` to the mean estimate.
     #[inline]
     pub fn observe_mean(&mut self, d: f64, bound: f64) {
