@@ -336,8 +336,8 @@ impl Engine {
         let (a, b) = (&set.shapes[i as usize], &set.shapes[j as usize]);
         if a.is_ball() && b.is_ball() {
             // Two spheres: the distance of their centres less their radii is exact.
-            let exact_mean = run.mean_budget.saturating_sub(block.first) as usize;
             let n = block.len;
+            let exact_mean = run.mean_budget.saturating_sub(block.first).min(n as u64) as usize;
             let outer = &block.outer[s];
             let (oa, ob) = (&outer[i as usize * n..][..n], &outer[j as usize * n..][..n]);
             let mut d = [0.0; BLOCK];
@@ -346,7 +346,7 @@ impl Engine {
             }
             work.pair_samples += n as u64;
             work.cheap += n as u64;
-            observe_exact(&d[..n], block.first, exact_mean.min(n), st);
+            observe_exact(&d[..n], block.first, exact_mean, st);
             return;
         }
         let mut bounds = [(0.0, 0.0); BLOCK];
