@@ -346,7 +346,7 @@ impl Engine {
             }
             work.pair_samples += n as u64;
             work.cheap += n as u64;
-            observe_exact(&d[..n], block.first, exact_mean, st);
+            st.observe_exact_block(&d[..n], block.first, exact_mean);
             return;
         }
         let mut bounds = [(0.0, 0.0); BLOCK];
@@ -364,8 +364,8 @@ impl Engine {
             .mean_budget
             .saturating_sub(block.first)
             .min(block.len as u64) as usize;
-        work.pair_samples += block.len as u64;
         let mut collisions = 0;
+        work.pair_samples += block.len as u64;
         for (kk, &(lower, upper)) in bounds.iter().enumerate() {
             if kk >= exact_mean && (lower > 0.0 || upper < 0.0) && lo < lower && upper < hi {
                 collisions += u64::from(upper < 0.0);
@@ -551,89 +551,9 @@ impl Engine {
     }
 }
 
-/// Adds the samples of a block (the first numbered `first`) at exact distances `d` (two spheres) to
-/// `st`: every one to the control mean (its bound is its distance) and the collisions, the first
-/// `exact_mean` to the mean, and the block's extremes exactly (the first sample on ties, as one sample
-/// after another would). In passes without branches on the samples, with four running sums of the
-/// control (its bits differ from one running sum's, as the version of the shard format says).
-fn observe_exact(d: &[f64], first: u64, exact_mean: usize, st: &mut PairStats) {
-    for &d in &d[..exact_mean] {
-        st.observe_mean(d, d);
-    }
-    let (mut min, mut max, mut collisions) = (f64::INFINITY, f64::NEG_INFINITY, 0u64);
-    let mut sums = [0.0; 4];
-    for (k, &d) in d.iter().enumerate() {
-        sums[k % 4] += d;
-        min = if d < min { d } else { min };
-        max = if d > max { d } else { max };
-        collisions += u64::from(d <= 0.0);
-    }
-    st.observe_bound_sum(d.len() as u64, (sums[0] + sums[1]) + (sums[2] + sums[3]));
-    st.collisions += collisions;
-    for extreme in [min, max] {
-        if extreme <= st.min || extreme >= st.max {
-            // The block's first sample at that extreme (one of the block's values, so present).
-            let kk = d.iter().position(|&x| x == extreme).unwrap_or_default();
-            st.observe_extremes(extreme, first + kk as u64);
-        }
-    }
-}
-
 /// The control bound of the mean estimate of a sample with cheap bounds `bound`: the lower one (0 where
 /// it is not finite).
 #[inline]
 fn control((lower, _): (f64, f64)) -> f64 {
     if lower.is_finite() { lower } else { 0.0 }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn exact_blocks_keep_what_one_sample_after_another_would() {
-        // Ties at both extremes, a collision at exactly 0, and a block that neither extreme reaches.
-        let blocks: [&[f64]; 3] = [
-            &[0.3, -0.1, 0.5, -0.1, 0.5, 0.0],
-            &[0.2, 0.4],
-            &[-0.1, 0.7, 0.7],
-        ];
-        let (mut by_block, mut one_by_one) = (PairStats::default(), PairStats::default());
-        let mut first = 0;
-        for d in blocks {
-            observe_exact(d, first, 1, &mut by_block);
-            for (kk, &x) in d.iter().enumerate() {
-                one_by_one.observe_extremes(x, first + kk as u64);
-                one_by_one.collisions += u64::from(x <= 0.0);
-            }
-            first += d.len() as u64;
-        }
-        assert_eq!((by_block.min, by_block.min_sample), (-0.1, 1));
-        assert_eq!((by_block.max, by_block.max_sample), (0.7, 9));
-        assert_eq!(
-            (
-                by_block.min,
-                by_block.min_sample,
-                by_block.max,
-                by_block.max_sample
-            ),
-            (
-                one_by_one.min,
-                one_by_one.min_sample,
-                one_by_one.max,
-                one_by_one.max_sample
-            )
-        );
-        assert_eq!(by_block.collisions, 4);
-        assert_eq!(by_block.collisions, one_by_one.collisions);
-        assert_eq!((by_block.mean_count, by_block.bound_count), (3, 11));
-        // Every sample's distance is its control bound, so the estimate is the exact mean.
-        let all: Vec<f64> = blocks.concat();
-        let exact = all.iter().sum::<f64>() / all.len() as f64;
-        assert!(
-            (by_block.mean() - exact).abs() < 1e-12,
-            "{}",
-            by_block.mean()
-        );
-    }
 }

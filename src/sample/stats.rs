@@ -126,12 +126,33 @@ impl PairStats {
         self.bound_sum += fixed(bounds.sum::<f64>());
     }
 
-    /// Adds `count` samples whose control bounds sum to `sum` (in f64, in an order every run keeps;
-    /// see [`PairStats::observe_bounds`]).
-    #[inline]
-    pub fn observe_bound_sum(&mut self, count: u64, sum: f64) {
-        self.bound_count += count;
-        self.bound_sum += fixed(sum);
+    /// Adds the samples of a block (the first numbered `first`) at exact distances `d` (two spheres):
+    /// every one to the control mean (its bound is its distance) and the collisions, the first
+    /// `exact_mean` to the mean, and the block's extremes exactly (the first sample on ties, as one
+    /// sample after another would). In passes without branches on the samples, with four running sums
+    /// of the control (its bits differ from one running sum's, as the shard format's version says).
+    pub fn observe_exact_block(&mut self, d: &[f64], first: u64, exact_mean: usize) {
+        for &d in &d[..exact_mean] {
+            self.observe_mean(d, d);
+        }
+        let (mut min, mut max, mut collisions) = (f64::INFINITY, f64::NEG_INFINITY, 0u64);
+        let mut sums = [0.0; 4];
+        for (k, &d) in d.iter().enumerate() {
+            sums[k % 4] += d;
+            min = if d < min { d } else { min };
+            max = if d > max { d } else { max };
+            collisions += u64::from(d <= 0.0);
+        }
+        self.bound_count += d.len() as u64;
+        self.bound_sum += fixed((sums[0] + sums[1]) + (sums[2] + sums[3]));
+        self.collisions += collisions;
+        for extreme in [min, max] {
+            if extreme <= self.min || extreme >= self.max {
+                // The block's first sample at that extreme (one of the block's values, so present).
+                let kk = d.iter().position(|&x| x == extreme).unwrap_or_default();
+                self.observe_extremes(extreme, first + kk as u64);
+            }
+        }
     }
 
     /// Adds an exact distance `d` at a sample whose control bound is `bound` to the mean estimate.
@@ -337,5 +358,52 @@ mod tests {
         assert!((st.mean() - exact).abs() < 1e-6, "{} vs {exact}", st.mean());
         assert!((plain - exact).abs() > 10.0 * (st.mean() - exact).abs());
         assert!(st.std() < 1e-5, "residual std {}", st.std());
+    }
+
+    #[test]
+    fn exact_blocks_keep_what_one_sample_after_another_would() {
+        // Ties at both extremes, a collision at exactly 0, and a block that neither extreme reaches.
+        let blocks: [&[f64]; 3] = [
+            &[0.3, -0.1, 0.5, -0.1, 0.5, 0.0],
+            &[0.2, 0.4],
+            &[-0.1, 0.7, 0.7],
+        ];
+        let (mut by_block, mut one_by_one) = (PairStats::default(), PairStats::default());
+        let mut first = 0;
+        for d in blocks {
+            by_block.observe_exact_block(d, first, 1);
+            for (kk, &x) in d.iter().enumerate() {
+                one_by_one.observe_extremes(x, first + kk as u64);
+                one_by_one.collisions += u64::from(x <= 0.0);
+            }
+            first += d.len() as u64;
+        }
+        assert_eq!((by_block.min, by_block.min_sample), (-0.1, 1));
+        assert_eq!((by_block.max, by_block.max_sample), (0.7, 9));
+        assert_eq!(
+            (
+                by_block.min,
+                by_block.min_sample,
+                by_block.max,
+                by_block.max_sample
+            ),
+            (
+                one_by_one.min,
+                one_by_one.min_sample,
+                one_by_one.max,
+                one_by_one.max_sample
+            )
+        );
+        assert_eq!(by_block.collisions, 4);
+        assert_eq!(by_block.collisions, one_by_one.collisions);
+        assert_eq!((by_block.mean_count, by_block.bound_count), (3, 11));
+        // Every sample's distance is its control bound, so the estimate is the exact mean.
+        let all: Vec<f64> = blocks.concat();
+        let exact = all.iter().sum::<f64>() / all.len() as f64;
+        assert!(
+            (by_block.mean() - exact).abs() < 1e-12,
+            "{}",
+            by_block.mean()
+        );
     }
 }
