@@ -316,8 +316,16 @@ impl Context<'_> {
     fn contact(&self, a: usize, b: usize, q: &[f64], gate: bool) -> Contact {
         let (pa, pb) = self.engine.kinematics.pair_poses(q, a, b);
         if gate {
+            // The hulls' enclosing spheres first (centres in the link frames): apart for the price of
+            // two points where most pairs are, one GJK test where they cannot tell.
             let (ha, hb) = self.hull_pair(a, b);
-            if !intersects(ha, &ha.pose(&pa), hb, &hb.pose(&pb)) {
+            let (outer_a, outer_b) = (
+                pa.transform_point(ha.outer_center),
+                pb.transform_point(hb.outer_center),
+            );
+            if outer_a.distance(outer_b) > ha.outer_radius + hb.outer_radius
+                || !intersects(ha, &ha.pose(&pa), hb, &hb.pose(&pb))
+            {
                 return Contact::Apart;
             }
         }
