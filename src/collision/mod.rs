@@ -245,6 +245,13 @@ pub fn axis_bounds(
     ((xb - xa).dot(u), xa.distance(xb))
 }
 
+/// The lower bound on the signed distance of two shapes whose enclosing-sphere centres are at `outer_a`
+/// and `outer_b` (world frame): the distance of those spheres, exact when both shapes are spheres.
+#[inline]
+pub fn outer_gap(a: &CollisionShape, outer_a: Vec3, b: &CollisionShape, outer_b: Vec3) -> f64 {
+    outer_a.distance(outer_b) - a.outer_radius - b.outer_radius
+}
+
 /// Sphere bounds on the signed distance of two shapes whose enclosing-sphere centres are at `outer_a`,
 /// `outer_b` and inscribed-sphere centres at `inner_a`, `inner_b` (world frame): `(lower, upper)`. The
 /// lower bound holds because each shape lies inside its enclosing sphere; the upper bound because each
@@ -258,7 +265,7 @@ pub fn sphere_bounds(
     inner_b: Vec3,
 ) -> (f64, f64) {
     (
-        outer_a.distance(outer_b) - a.outer_radius - b.outer_radius,
+        outer_gap(a, outer_a, b, outer_b),
         inner_a.distance(inner_b) - a.inner_radius - b.inner_radius,
     )
 }

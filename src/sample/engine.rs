@@ -7,7 +7,8 @@ use super::stats::PairStats;
 use super::table::{self, Table};
 use super::work::{Settled, SharedWork, Work};
 use crate::collision::{
-    Hint, Tether, Window, axis_bounds, box_bounds, signed_distance_hinted, sphere_bounds, window,
+    Hint, Tether, Window, axis_bounds, box_bounds, outer_gap, signed_distance_hinted,
+    sphere_bounds, window,
 };
 use crate::error::Result;
 use crate::math::Vec3;
@@ -342,7 +343,7 @@ impl Engine {
             let (oa, ob) = (&outer[i as usize * n..][..n], &outer[j as usize * n..][..n]);
             let mut d = [0.0; BLOCK];
             for ((d, a_), b_) in d.iter_mut().zip(oa).zip(ob) {
-                *d = a_.distance(*b_) - a.outer_radius - b.outer_radius;
+                *d = outer_gap(a, *a_, b, *b_);
             }
             work.pair_samples += n as u64;
             work.cheap += n as u64;

@@ -19,6 +19,7 @@ use super::certify::{Certificate, CertifyParams, PairGeometry, Status, certify};
 use super::engine::{CHUNK, Engine};
 use super::reasons::{Reason, never_upper_bound};
 use super::records::{SampleFile, Witness};
+use super::sets::PlacedPair;
 use crate::collision::{ExactLink, intersects};
 use crate::error::{Error, Result};
 use crate::math::Pose;
@@ -316,16 +317,16 @@ impl Context<'_> {
     fn contact(&self, a: usize, b: usize, q: &[f64], gate: bool) -> Contact {
         let (pa, pb) = self.engine.kinematics.pair_poses(q, a, b);
         if gate {
-            // The hulls' enclosing spheres first (centres in the link frames): apart for the price of
-            // two points where most pairs are, one GJK test where they cannot tell.
+            // The hulls' enclosing spheres first: apart for the price of two points where most pairs
+            // are, one GJK test where they cannot tell.
             let (ha, hb) = self.hull_pair(a, b);
-            let (outer_a, outer_b) = (
-                pa.transform_point(ha.outer_center),
-                pb.transform_point(hb.outer_center),
-            );
-            if outer_a.distance(outer_b) > ha.outer_radius + hb.outer_radius
-                || !intersects(ha, &ha.pose(&pa), hb, &hb.pose(&pb))
-            {
+            let hulls = PlacedPair {
+                a: ha,
+                b: hb,
+                link_a: pa,
+                link_b: pb,
+            };
+            if hulls.lower_bound() > 0.0 || !intersects(ha, &ha.pose(&pa), hb, &hb.pose(&pb)) {
                 return Contact::Apart;
             }
         }

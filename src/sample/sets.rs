@@ -2,7 +2,7 @@
 //! to sample, and one pair placed at a configuration. What the block placement, the distance tables,
 //! the targeted search and the engine all query, so none of them needs the engine itself.
 
-use crate::collision::{CollisionShape, Hint, Window, signed_distance_hinted, window};
+use crate::collision::{CollisionShape, Hint, Window, outer_gap, signed_distance_hinted, window};
 use crate::math::Pose;
 use crate::robot::Kinematics;
 use crate::shapes::ShapeType;
@@ -63,7 +63,7 @@ impl PlacedPair<'_> {
     pub fn lower_bound(&self) -> f64 {
         let ca = self.link_a.transform_point(self.a.outer_center);
         let cb = self.link_b.transform_point(self.b.outer_center);
-        ca.distance(cb) - self.a.outer_radius - self.b.outer_radius
+        outer_gap(self.a, ca, self.b, cb)
     }
 
     /// Whether the signed distance may lie below `d`: `false` once the sphere bound, or else a GJK that
