@@ -333,19 +333,23 @@ impl Engine {
         // First the cheap bounds of every sample, in one pass of independent loads and arithmetic
         // (the table lookups miss the cache, and here the misses overlap), then the samples in order.
         debug_assert!(block.len <= BLOCK);
+        // The block's first samples that enter the mean exactly.
+        let exact_mean = run
+            .mean_budget
+            .saturating_sub(block.first)
+            .min(block.len as u64) as usize;
+        work.pair_samples += block.len as u64;
         let (i, j) = set.pairs[p];
         let (a, b) = (&set.shapes[i as usize], &set.shapes[j as usize]);
         if a.is_ball() && b.is_ball() {
             // Two spheres: the distance of their centres less their radii is exact.
             let n = block.len;
-            let exact_mean = run.mean_budget.saturating_sub(block.first).min(n as u64) as usize;
             let outer = &block.outer[s];
             let (oa, ob) = (&outer[i as usize * n..][..n], &outer[j as usize * n..][..n]);
             let mut d = [0.0; BLOCK];
             for ((d, a_), b_) in d.iter_mut().zip(oa).zip(ob) {
                 *d = outer_gap(a, *a_, b, *b_);
             }
-            work.pair_samples += n as u64;
             work.cheap += n as u64;
             st.observe_exact_block(&d[..n], block.first, exact_mean);
             return;
@@ -361,12 +365,7 @@ impl Engine {
         let known = run.known;
         let lo = st.min.min(known.map_or(f64::INFINITY, |n| n.min)) - run.tol;
         let hi = st.max.max(known.map_or(f64::NEG_INFINITY, |n| n.max)) + run.tol;
-        let exact_mean = run
-            .mean_budget
-            .saturating_sub(block.first)
-            .min(block.len as u64) as usize;
         let mut collisions = 0;
-        work.pair_samples += block.len as u64;
         for (kk, &(lower, upper)) in bounds.iter().enumerate() {
             if kk >= exact_mean && (lower > 0.0 || upper < 0.0) && lo < lower && upper < hi {
                 collisions += u64::from(upper < 0.0);
