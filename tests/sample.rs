@@ -153,12 +153,18 @@ fn same_seed_same_bytes_at_any_thread_count_and_sharding() {
         dir
     };
     let (one, two) = (fresh("t1"), fresh("t2"));
-    let work = |o: Output| -> serde_json::Value {
-        let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        report["work"].clone()
-    };
-    let work_one = work(sample_in(&one, &["--threads", "1", "--json"]));
-    let work_two = work(sample_in(&two, &["--threads", "2", "--json"]));
+    let report = |o: Output| -> serde_json::Value { serde_json::from_slice(&o.stdout).unwrap() };
+    let report_one = report(sample_in(&one, &["--threads", "1", "--json"]));
+    let work_one = report_one["work"].clone();
+    let work_two = report(sample_in(&two, &["--threads", "2", "--json"]))["work"].clone();
+    // Where the time went: every phase timed, and the run's seconds are the phases after loading.
+    let phase = |r: &serde_json::Value, k: &str| r["phases"][k].as_f64().unwrap();
+    let phases = ["load", "sampling", "search", "verdicts"];
+    assert!(phases.iter().all(|k| phase(&report_one, k) >= 0.0));
+    assert!(phase(&report_one, "sampling") > 0.0, "{report_one}");
+    let after_load: f64 = phases[1..].iter().map(|k| phase(&report_one, k)).sum();
+    let seconds = report_one["seconds"].as_f64().unwrap();
+    assert!((seconds - after_load).abs() < 1e-9, "{report_one}");
     let reference = sample_bytes(&one);
     assert_eq!(reference.len(), 5, "four types and mesh.json");
     assert_eq!(
@@ -199,6 +205,7 @@ fn same_seed_same_bytes_at_any_thread_count_and_sharding() {
     let rerun = sample_in(&one, &["--json"]);
     let json: serde_json::Value = serde_json::from_slice(&rerun.stdout).unwrap();
     assert_eq!(json["up_to_date"], true);
+    assert!(phases.iter().all(|k| phase(&json, k) == 0.0), "{json}");
 }
 
 /// Writes the authored URDF `text` as `NAME.urdf` in a scratch folder and preprocesses it into the

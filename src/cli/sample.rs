@@ -97,11 +97,16 @@ pub fn print_sample(cli: &Cli, r: &SampleReport) {
     for n in &r.notes {
         eprintln!("note: {n}");
     }
+    let p = &r.phases;
     outln!(
-        "{}: {} samples in {:.1} s",
+        "{}: {} samples in {:.1} s (sampling {:.1}, search {:.1}, exact-geometry verdicts {:.1}; loading before them {:.1} s)",
         r.urdd.display(),
         r.samples,
-        r.seconds
+        r.seconds,
+        p.sampling,
+        p.search,
+        p.verdicts,
+        p.load
     );
     for (t, s) in &r.types {
         let reasons: Vec<String> = s

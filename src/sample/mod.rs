@@ -28,7 +28,8 @@ pub use search::{SearchOutcome, SearchParams, SearchTarget, search_link_pair};
 pub use sets::{PairSet, PlacedPair};
 pub use stats::PairStats;
 pub use table::Table;
-pub use work::Work;
+use work::Laps;
+pub use work::{Phases, Work};
 
 use crate::error::{Error, Result};
 use crate::progress::Progress;
@@ -139,8 +140,10 @@ pub struct SampleReport {
     /// Per type, what the sampling loop did (summed over the shards after a merge).
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub work: BTreeMap<ShapeType, Work>,
-    /// Seconds spent sampling (not counting loading and writing).
+    /// Seconds spent sampling (not counting loading and writing): `phases` without `load`.
     pub seconds: f64,
+    /// Where the time went, phase by phase (all zero when nothing was done).
+    pub phases: Phases,
     /// Why the stage reran although its key was unchanged (an output file changed or went missing).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub notes: Vec<String>,
@@ -335,14 +338,15 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
     };
     let key = stage_key(&urdd, opts)?;
     let notes: Vec<String> = urdd.rerun_note(SAMPLE, &key).into_iter().collect();
-    let report = |up_to_date, shard_file, types, work, seconds| SampleReport {
+    let report = |up_to_date, shard_file, types, work, phases: Phases| SampleReport {
         urdd: opts.urdd.clone(),
         up_to_date,
         shard_file,
         samples: opts.samples,
         types,
         work,
-        seconds,
+        seconds: phases.sampling + phases.search + phases.verdicts,
+        phases,
         mesh: None,
         notes: Vec::new(),
     };
@@ -353,10 +357,19 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
         let work: Option<_> = urdd.stage_summary(SAMPLE, Some("work"))?;
         return Ok(SampleReport {
             mesh,
-            ..report(true, None, types, work.unwrap_or_default(), 0.0)
+            ..report(
+                true,
+                None,
+                types,
+                work.unwrap_or_default(),
+                Phases::default(),
+            )
         });
     }
+    let mut laps = Laps::start();
+    let mut phases = Phases::default();
     let engine = Engine::load(&urdd, &opts.types)?;
+    phases.load = laps.lap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
         .build()
@@ -364,7 +377,7 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
             context: "sample".into(),
             message: format!("cannot start threads: {e}"),
         })?;
-    let started = std::time::Instant::now();
+    laps.lap();
     let chunks: Vec<u64> = (0..opts.samples.div_ceil(CHUNK))
         .filter(|c| {
             opts.shard
@@ -374,6 +387,7 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
     progress.start("sampling", chunks.len() as u64 * CHUNK.min(opts.samples));
     let acc = pool.install(|| finalize::accumulate(&engine, opts, &chunks, progress));
     progress.finish();
+    phases.sampling = laps.lap();
     let work: BTreeMap<ShapeType, Work> = engine
         .sets
         .iter()
@@ -397,12 +411,13 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
             Some(format!("{SHARDS}/{name}")),
             BTreeMap::new(),
             work,
-            started.elapsed().as_secs_f64(),
+            phases,
         ));
     }
     let files = pool.install(|| finalize::finalize(&engine, opts, acc));
+    phases.search = laps.lap();
     let mesh = pool.install(|| mesh::mesh_verdicts(&urdd, &engine, opts, &files, progress))?;
-    let seconds = started.elapsed().as_secs_f64();
+    phases.verdicts = laps.lap();
     write_stage(&mut urdd, opts, key, &files, &mesh, &work)?;
     Ok(SampleReport {
         notes,
@@ -415,7 +430,7 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
                 .map(|f| (f.shape_type, f.summary.clone()))
                 .collect(),
             work,
-            seconds,
+            phases,
         )
     })
 }
@@ -455,7 +470,10 @@ pub fn merge_shards(
             ),
         ));
     }
+    let mut laps = Laps::start();
+    let mut phases = Phases::default();
     let engine = Engine::load(&urdd, &opts.types)?;
+    phases.load = laps.lap();
     let mut acc: Vec<Vec<PairStats>> = engine
         .sets
         .iter()
@@ -491,9 +509,11 @@ pub fn merge_shards(
         progress.advance(1);
     }
     progress.finish();
-    let started = std::time::Instant::now();
+    phases.sampling = laps.lap();
     let files = finalize::finalize(&engine, opts, acc);
+    phases.search = laps.lap();
     let mesh = mesh::mesh_verdicts(&urdd, &engine, opts, &files, progress)?;
+    phases.verdicts = laps.lap();
     write_stage(&mut urdd, opts, key, &files, &mesh, &work)?;
     Ok(SampleReport {
         mesh: Some(mesh.summary.clone()),
@@ -506,7 +526,8 @@ pub fn merge_shards(
             .iter()
             .map(|f| (f.shape_type, f.summary.clone()))
             .collect(),
-        seconds: started.elapsed().as_secs_f64(),
+        seconds: phases.sampling + phases.search + phases.verdicts,
+        phases,
         notes: Vec::new(),
     })
 }

@@ -1,10 +1,44 @@
 //! What the sampling loop did, counted per shape type: how many pair-samples it bounded and how each was
-//! settled, from the cheap sphere bounds to an exact query. The counts explain a run's time (see
-//! docs/benchmarks.md); they never enter the sample records, and every chunk's work is fixed by the seed,
-//! so they are the same at any thread count.
+//! settled, from the cheap sphere bounds to an exact query; and where a run's time went, per phase. The
+//! counts explain a run's time (see docs/benchmarks.md); they never enter the sample records, and every
+//! chunk's work is fixed by the seed, so they are the same at any thread count. The times are the
+//! run's own (wall clock), reported and never written into the URDD.
 
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+/// Where a run's wall-clock time went (seconds), phase by phase.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Phases {
+    /// Loading the robot and the shapes and building the pairs' distance tables.
+    pub load: f64,
+    /// The sampling loop: the mean's pilot, the scout and the chunks (or, merging shards, reading
+    /// and merging them).
+    pub sampling: f64,
+    /// Rigid pairs, reasons, witnesses and the targeted collision search.
+    pub search: f64,
+    /// The link-level verdicts on the exact geometry, with their `never` certificates.
+    pub verdicts: f64,
+}
+
+/// Reads the time at the end of each phase.
+pub(super) struct Laps(Instant);
+
+impl Laps {
+    /// Starts the first phase now.
+    pub(super) fn start() -> Laps {
+        Laps(Instant::now())
+    }
+
+    /// Seconds since the last lap (or the start), and starts the next phase.
+    pub(super) fn lap(&mut self) -> f64 {
+        let now = Instant::now();
+        let seconds = (now - self.0).as_secs_f64();
+        self.0 = now;
+        seconds
+    }
+}
 
 /// How the engine settled one sample of one pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
