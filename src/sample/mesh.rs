@@ -20,7 +20,7 @@ use super::engine::{CHUNK, Engine};
 use super::reasons::{Reason, never_upper_bound};
 use super::records::{SampleFile, Witness};
 use super::sets::PlacedPair;
-use crate::collision::{ExactLink, intersects};
+use crate::collision::ExactLink;
 use crate::error::{Error, Result};
 use crate::math::Pose;
 use crate::preprocess::{exact_links, load_meshes, urdd_urdf};
@@ -317,8 +317,6 @@ impl Context<'_> {
     fn contact(&self, a: usize, b: usize, q: &[f64], gate: bool) -> Contact {
         let (pa, pb) = self.engine.kinematics.pair_poses(q, a, b);
         if gate {
-            // The hulls' enclosing spheres first: apart for the price of two points where most pairs
-            // are, one GJK test where they cannot tell.
             let (ha, hb) = self.hull_pair(a, b);
             let hulls = PlacedPair {
                 a: ha,
@@ -326,7 +324,7 @@ impl Context<'_> {
                 link_a: pa,
                 link_b: pb,
             };
-            if hulls.lower_bound() > 0.0 || !intersects(ha, &ha.pose(&pa), hb, &hb.pose(&pb)) {
+            if !hulls.overlaps() {
                 return Contact::Apart;
             }
         }

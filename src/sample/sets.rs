@@ -2,7 +2,9 @@
 //! to sample, and one pair placed at a configuration. What the block placement, the distance tables,
 //! the targeted search and the engine all query, so none of them needs the engine itself.
 
-use crate::collision::{CollisionShape, Hint, Window, outer_gap, signed_distance_hinted, window};
+use crate::collision::{
+    CollisionShape, Hint, Window, intersects, outer_gap, signed_distance_hinted, window,
+};
 use crate::math::Pose;
 use crate::robot::Kinematics;
 use crate::shapes::ShapeType;
@@ -64,6 +66,18 @@ impl PlacedPair<'_> {
         let ca = self.link_a.transform_point(self.a.outer_center);
         let cb = self.link_b.transform_point(self.b.outer_center);
         outer_gap(self.a, ca, self.b, cb)
+    }
+
+    /// Whether the shapes overlap (signed distance `<= 0`): apart for the price of two points where
+    /// their enclosing spheres are, else one GJK intersection test.
+    pub fn overlaps(&self) -> bool {
+        self.lower_bound() <= 0.0
+            && intersects(
+                self.a,
+                &self.a.pose(&self.link_a),
+                self.b,
+                &self.b.pose(&self.link_b),
+            )
     }
 
     /// Whether the signed distance may lie below `d`: `false` once the sphere bound, or else a GJK that
