@@ -345,7 +345,7 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
         samples: opts.samples,
         types,
         work,
-        seconds: phases.sampling + phases.search + phases.verdicts,
+        seconds: phases.after_load(),
         phases,
         mesh: None,
         notes: Vec::new(),
@@ -526,7 +526,7 @@ pub fn merge_shards(
             .iter()
             .map(|f| (f.shape_type, f.summary.clone()))
             .collect(),
-        seconds: phases.sampling + phases.search + phases.verdicts,
+        seconds: phases.after_load(),
         phases,
         notes: Vec::new(),
     })

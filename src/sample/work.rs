@@ -22,6 +22,13 @@ pub struct Phases {
     pub verdicts: f64,
 }
 
+impl Phases {
+    /// The seconds after loading: what a report calls its run's time.
+    pub fn after_load(&self) -> f64 {
+        self.sampling + self.search + self.verdicts
+    }
+}
+
 /// Reads the time at the end of each phase.
 pub(super) struct Laps(Instant);
 
