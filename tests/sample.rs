@@ -454,7 +454,9 @@ fn coaxial_tables_bracket_the_exact_distance() {
     let dir = common::preprocessed(&robots.join("b1/b1.urdf"), "b1-coaxial");
     let urdd = Urdd::open(&dir).unwrap();
     let types = [ShapeType::Hull, ShapeType::DecompHull];
-    let engine = scm::sample::Engine::load(&urdd, &types).unwrap();
+    let engine = scm::sample::Engine::load(&urdd, &types)
+        .unwrap()
+        .with_tables();
     let names: Vec<&str> = engine.robot.links.iter().map(|l| l.name.as_str()).collect();
     let mut rng = scm::rng::Rng::new(12, 0);
     let mut pairs = std::collections::BTreeSet::new();
@@ -512,7 +514,9 @@ const AXLE: &str = r#"<robot name="axle">
 #[test]
 fn opposite_coaxial_axes_turn_by_the_sum() {
     let out = preprocessed_text("axle", AXLE);
-    let engine = scm::sample::Engine::load(&Urdd::open(&out).unwrap(), &[ShapeType::Obb]).unwrap();
+    let engine = scm::sample::Engine::load(&Urdd::open(&out).unwrap(), &[ShapeType::Obb])
+        .unwrap()
+        .with_tables();
     let names: Vec<&str> = engine.robot.links.iter().map(|l| l.name.as_str()).collect();
     let mut rng = scm::rng::Rng::new(13, 0);
     let set = &engine.sets[0];
@@ -543,7 +547,9 @@ fn tables_bracket_the_exact_distance() {
         return;
     };
     let dir = common::preprocessed(&robots.join("panda/panda.urdf"), "panda-tables");
-    let engine = scm::sample::Engine::load(&Urdd::open(&dir).unwrap(), &ShapeType::ALL).unwrap();
+    let engine = scm::sample::Engine::load(&Urdd::open(&dir).unwrap(), &ShapeType::ALL)
+        .unwrap()
+        .with_tables();
     let mut rng = scm::rng::Rng::new(11, 0);
     // Per rank: checks, and bounds within 1 mm and 5 cm.
     let mut checked = [0usize; 2];

@@ -30,7 +30,8 @@ pub struct Engine {
     pub kinematics: Kinematics,
     /// One set per selected type.
     pub sets: Vec<PairSet>,
-    /// Per set and pair, the distance table of a pair that depends on one DOF only.
+    /// Per set and pair, the distance table of a pair that depends on one or two DOFs (or on two
+    /// coaxial joints' relative turn): `None` for every pair until [`Engine::with_tables`] builds them.
     pub tables: Vec<Vec<Option<Table>>>,
     /// Per set, what the sampling loop has done so far.
     work: Vec<SharedWork>,
@@ -78,7 +79,9 @@ pub struct ChunkScratch {
 }
 
 impl Engine {
-    /// Loads the robot and the shapes of `types` from a preprocessed URDD.
+    /// Loads the robot and the shapes of `types` from a preprocessed URDD, without distance tables:
+    /// enough for the exact queries, the search and the verdicts (merging shards); sampling wants
+    /// [`Engine::with_tables`] too.
     pub fn load(urdd: &Urdd, types: &[ShapeType]) -> Result<Engine> {
         let record = urdd.robot()?;
         let robot = record.robot;
@@ -102,14 +105,27 @@ impl Engine {
                 moving,
             });
         }
-        let tables = sets
-            .iter()
+        Ok(Engine {
+            robot,
+            kinematics,
+            work: sets.iter().map(|_| SharedWork::default()).collect(),
+            tables: sets.iter().map(|set| vec![None; set.pairs.len()]).collect(),
+            sets,
+        })
+    }
+
+    /// The engine with the distance tables of its moving pairs built (in parallel over pairs), which
+    /// the sampling loop's cheap bounds read. Only bounds come from them: an engine without them
+    /// computes the same results, with more exact queries.
+    pub fn with_tables(mut self) -> Engine {
+        let (robot, kinematics) = (&self.robot, &self.kinematics);
+        self.tables = (self.sets.iter())
             .map(|set| {
                 (0..set.pairs.len())
                     .into_par_iter()
                     .map(|p| {
                         if set.moving[p] {
-                            table::build(&robot, &kinematics, set, p)
+                            table::build(robot, kinematics, set, p)
                         } else {
                             None
                         }
@@ -117,13 +133,7 @@ impl Engine {
                     .collect()
             })
             .collect();
-        Ok(Engine {
-            robot,
-            kinematics,
-            work: sets.iter().map(|_| SharedWork::default()).collect(),
-            sets,
-            tables,
-        })
+        self
     }
 
     /// Per set, what the sampling loop has done so far (pilot, scout and chunks).

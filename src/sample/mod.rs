@@ -368,7 +368,7 @@ pub fn sample(opts: &SampleOptions, progress: &dyn Progress) -> Result<SampleRep
     }
     let mut laps = Laps::start();
     let mut phases = Phases::default();
-    let engine = Engine::load(&urdd, &opts.types)?;
+    let engine = Engine::load(&urdd, &opts.types)?.with_tables();
     phases.load = laps.lap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
@@ -472,6 +472,7 @@ pub fn merge_shards(
     }
     let mut laps = Laps::start();
     let mut phases = Phases::default();
+    // The merge samples nothing, so it builds no distance tables.
     let engine = Engine::load(&urdd, &opts.types)?;
     phases.load = laps.lap();
     let mut acc: Vec<Vec<PairStats>> = engine
