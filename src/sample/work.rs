@@ -11,7 +11,8 @@ use std::time::Instant;
 /// Where a run's wall-clock time went (seconds), phase by phase.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
 pub struct Phases {
-    /// Loading the robot and the shapes and building the pairs' distance tables.
+    /// Loading the robot and the shapes and, to sample, building the pairs' distance tables (a merge
+    /// of shards builds none).
     pub load: f64,
     /// The sampling loop: the mean's pilot, the scout and the chunks (or, merging shards, reading
     /// and merging them).
